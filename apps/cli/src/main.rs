@@ -1,0 +1,2 @@
+//! Phosphor command line (placeholder until the apps issue lands).
+fn main() {}

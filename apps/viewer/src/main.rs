@@ -1,0 +1,2 @@
+//! Phosphor viewer (placeholder until the apps issue lands).
+fn main() {}

@@ -1,0 +1,1 @@
+//! The classic illumination models as pure functions over plain data (being built).

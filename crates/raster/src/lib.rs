@@ -1,0 +1,1 @@
+//! The scan-line rasterizer and its shading modes (being built).

@@ -1,0 +1,1 @@
+//! The hecs world, scene files and the frame plan (being built).
