@@ -1,2 +1,73 @@
-//! Phosphor command line (placeholder until the apps issue lands).
-fn main() {}
+//! `phosphor`: the command line of the Phosphor engine.
+//!
+//! ```text
+//! phosphor render [SCENE.toml] [--mesh FILE.obj] [--shading MODE] [--size WxH] [--threads N]
+//!                 [--encoding srgb|linear] [--plan] -o OUT.png|OUT.exr
+//! phosphor accuracy [SCENE.toml] [--mesh FILE.obj] [--size WxH] [--out-dir DIR]
+//! phosphor info FILE.obj
+//! phosphor bench [SCENE.toml] [--mesh FILE.obj] [--shading MODE|all] [--size WxH] [--threads N] [--frames N]
+//! ```
+//!
+//! Errors are one line on stderr, `error: FILE:LINE: what` or `error: FILE: FIELD: what` (the
+//! libraries' error messages already name the file and line or field). Exit codes: 0 success,
+//! 1 input error (a file that is missing or wrong, an output that cannot be written), 2 usage
+//! error (clap's own, and an output extension other than `.png`/`.exr`).
+
+#[allow(dead_code)] // used by `accuracy` once the scene crate lands
+mod accuracy;
+mod args;
+mod commands;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use crate::args::{Cli, Command};
+
+/// A failure, sorted by who has to fix it.
+#[derive(Debug)]
+pub enum CliError {
+    /// The command line is wrong (exit 2).
+    Usage(String),
+    /// An input file is missing or wrong, or the output cannot be written (exit 1).
+    Input(String),
+}
+
+impl CliError {
+    /// The process exit code for this error.
+    #[must_use]
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Usage(_) => 2,
+            CliError::Input(_) => 1,
+        }
+    }
+}
+
+impl std::fmt::Display for CliError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CliError::Usage(m) | CliError::Input(m) => f.write_str(m),
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    // clap prints its own usage errors and exits with 2; --help and --version exit 0.
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(a) => commands::render::run(&a),
+        Command::Accuracy(a) => commands::accuracy::run(&a),
+        Command::Info(a) => commands::info::run(&a),
+        Command::Bench(a) => commands::bench::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // One line, whatever the library put in its message.
+            let message = e.to_string().lines().collect::<Vec<_>>().join(" ");
+            eprintln!("error: {message}");
+            ExitCode::from(e.exit_code())
+        }
+    }
+}

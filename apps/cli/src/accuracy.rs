@@ -1,0 +1,262 @@
+//! The comparison math of `phosphor accuracy`: error statistics of an image against the
+//! reference, the false-colour heat-map, and the median of frame times.
+//!
+//! All comparisons are on the framebuffer's linear, clamped [0, 1] values, per channel.
+
+use phosphor_math::glam::Vec3;
+
+/// One step of an 8-bit display: errors above this are visible in a PNG.
+pub const ONE_LSB: f64 = 1.0 / 255.0;
+/// Width of the heat-map's scale bar, in pixels.
+const BAR_WIDTH: u32 = 12;
+/// Gap between the image and the scale bar, in pixels.
+const BAR_GAP: u32 = 4;
+
+/// How far an image is from the reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ErrorStats {
+    /// Root mean square of the per-channel differences.
+    pub rmse: f64,
+    /// Peak signal-to-noise ratio for a peak of 1, in dB: `20 log10(1 / rmse)`; infinite when
+    /// the images are equal.
+    pub psnr_db: f64,
+    /// Largest per-channel absolute difference.
+    pub max_abs: f64,
+    /// Share (0..=1) of pixels where some channel differs by more than [`ONE_LSB`].
+    pub share_over_lsb: f64,
+}
+
+/// The largest per-channel absolute difference of two colours.
+#[must_use]
+pub fn pixel_error(a: Vec3, b: Vec3) -> f32 {
+    (a - b).abs().max_element()
+}
+
+/// Compares `image` with `reference` (same size, row-major). `None` when the sizes differ or
+/// the images are empty. Non-finite values count as the largest error (1).
+#[must_use]
+pub fn compare(image: &[Vec3], reference: &[Vec3]) -> Option<ErrorStats> {
+    if image.len() != reference.len() || image.is_empty() {
+        return None;
+    }
+    let mut sum_sq = 0.0f64;
+    let mut max_abs = 0.0f64;
+    let mut over = 0usize;
+    for (&a, &b) in image.iter().zip(reference) {
+        let mut pixel_max = 0.0f64;
+        for c in 0..3 {
+            let d = f64::from(a[c]) - f64::from(b[c]);
+            let d = if d.is_finite() { d.abs().min(1.0) } else { 1.0 };
+            sum_sq += d * d;
+            pixel_max = pixel_max.max(d);
+        }
+        max_abs = max_abs.max(pixel_max);
+        if pixel_max > ONE_LSB {
+            over += 1;
+        }
+    }
+    let rmse = (sum_sq / (image.len() * 3) as f64).sqrt();
+    let psnr_db = if rmse > 0.0 {
+        20.0 * (1.0 / rmse).log10()
+    } else {
+        f64::INFINITY
+    };
+    Some(ErrorStats {
+        rmse,
+        psnr_db,
+        max_abs,
+        share_over_lsb: over as f64 / image.len() as f64,
+    })
+}
+
+/// The median of `values` (the mean of the middle two for an even count); 0 when empty.
+#[must_use]
+pub fn median(values: &[f64]) -> f64 {
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let n = sorted.len();
+    match n {
+        0 => 0.0,
+        _ if n % 2 == 1 => sorted[n / 2],
+        _ => 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]),
+    }
+}
+
+/// False colour for `t` in [0, 1]: black, purple, red, orange, yellow, white.
+/// Out-of-range and non-finite values saturate (NaN reads as the top of the scale).
+#[must_use]
+pub fn heat_colour(t: f32) -> [u8; 3] {
+    const STOPS: [[f32; 3]; 6] = [
+        [0.0, 0.0, 0.0],
+        [60.0, 0.0, 140.0],
+        [190.0, 0.0, 110.0],
+        [255.0, 90.0, 0.0],
+        [255.0, 220.0, 0.0],
+        [255.0, 255.0, 255.0],
+    ];
+    let t = if t.is_nan() { 1.0 } else { t.clamp(0.0, 1.0) };
+    let x = t * (STOPS.len() - 1) as f32;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f32;
+    let mut out = [0u8; 3];
+    for c in 0..3 {
+        let v = STOPS[i][c] + (STOPS[i + 1][c] - STOPS[i][c]) * f;
+        out[c] = v.round().clamp(0.0, 255.0) as u8;
+    }
+    out
+}
+
+/// An 8-bit RGB image.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Rgb8Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row-major RGB bytes, `width * height * 3` of them.
+    pub data: Vec<u8>,
+}
+
+/// The error heat-map of `image` against `reference` (`width` x `height`): each pixel's largest
+/// channel error mapped through [`heat_colour`] over `[0, scale]`, with a scale bar on the right
+/// (bottom = 0, top = `scale`, white ticks at quarters). `None` if the sizes do not match.
+#[must_use]
+pub fn heat_map(
+    image: &[Vec3],
+    reference: &[Vec3],
+    width: u32,
+    height: u32,
+    scale: f32,
+) -> Option<Rgb8Image> {
+    let pixels = (width as usize).checked_mul(height as usize)?;
+    if image.len() != pixels || reference.len() != pixels || pixels == 0 {
+        return None;
+    }
+    let scale = if scale.is_finite() && scale > 0.0 {
+        scale
+    } else {
+        1.0
+    };
+    let out_width = width + BAR_GAP + BAR_WIDTH;
+    let mut data = vec![0u8; out_width as usize * height as usize * 3];
+    for y in 0..height {
+        let row = y as usize * out_width as usize;
+        for x in 0..width {
+            let i = (y * width + x) as usize;
+            let colour = heat_colour(pixel_error(image[i], reference[i]) / scale);
+            let o = (row + x as usize) * 3;
+            data[o..o + 3].copy_from_slice(&colour);
+        }
+        // The bar: the colour for the error at this height, ticks every quarter of the scale.
+        let t = if height > 1 {
+            1.0 - y as f32 / (height - 1) as f32
+        } else {
+            1.0
+        };
+        let quarter = (t * 4.0).round() / 4.0;
+        let is_tick = ((t - quarter) * (height.max(2) - 1) as f32).abs() < 0.5;
+        for x in 0..BAR_WIDTH {
+            let colour = if is_tick && !(3..BAR_WIDTH - 3).contains(&x) {
+                [255, 255, 255]
+            } else {
+                heat_colour(t)
+            };
+            let o = (row + (width + BAR_GAP + x) as usize) * 3;
+            data[o..o + 3].copy_from_slice(&colour);
+        }
+    }
+    Some(Rgb8Image {
+        width: out_width,
+        height,
+        data,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identical_images_have_zero_error_and_infinite_psnr() {
+        let img = vec![Vec3::new(0.2, 0.4, 0.6); 12];
+        let s = compare(&img, &img).expect("same size");
+        assert_eq!(s.rmse, 0.0);
+        assert_eq!(s.max_abs, 0.0);
+        assert_eq!(s.share_over_lsb, 0.0);
+        assert!(s.psnr_db.is_infinite());
+    }
+
+    #[test]
+    fn rmse_psnr_and_max_follow_their_definitions() {
+        // One pixel off by 0.1 in red only, three exact: mean square = 0.01 / 12.
+        let reference = vec![Vec3::ZERO; 4];
+        let mut image = reference.clone();
+        image[1] = Vec3::new(0.1, 0.0, 0.0);
+        let s = compare(&image, &reference).expect("same size");
+        let rmse = (0.01f64 / 12.0).sqrt();
+        assert!((s.rmse - rmse).abs() < 1e-7, "{}", s.rmse);
+        assert!((s.psnr_db - 20.0 * (1.0 / rmse).log10()).abs() < 1e-4);
+        assert!((s.max_abs - 0.1).abs() < 1e-6);
+        assert!((s.share_over_lsb - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn errors_of_one_lsb_or_less_are_not_counted_as_visible() {
+        let reference = vec![Vec3::splat(0.5); 2];
+        let image = vec![
+            Vec3::splat(0.5 + 0.9 / 255.0),
+            Vec3::splat(0.5 + 1.5 / 255.0),
+        ];
+        let s = compare(&image, &reference).expect("same size");
+        assert!((s.share_over_lsb - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn mismatched_or_empty_images_are_not_compared() {
+        assert!(compare(&[Vec3::ZERO], &[]).is_none());
+        assert!(compare(&[], &[]).is_none());
+    }
+
+    #[test]
+    fn non_finite_pixels_count_as_the_largest_error() {
+        let s = compare(&[Vec3::new(f32::NAN, 0.0, 0.0)], &[Vec3::ZERO]).expect("same size");
+        assert!(s.rmse.is_finite() && s.max_abs == 1.0);
+    }
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert_eq!(median(&[]), 0.0);
+    }
+
+    #[test]
+    fn heat_colour_runs_from_black_to_white_and_saturates() {
+        assert_eq!(heat_colour(0.0), [0, 0, 0]);
+        assert_eq!(heat_colour(1.0), [255, 255, 255]);
+        assert_eq!(heat_colour(7.0), [255, 255, 255]);
+        assert_eq!(heat_colour(-1.0), [0, 0, 0]);
+        assert_eq!(heat_colour(f32::NAN), [255, 255, 255]);
+    }
+
+    #[test]
+    fn heat_map_marks_errors_and_carries_a_scale_bar() {
+        let reference = vec![Vec3::ZERO; 6];
+        let mut image = reference.clone();
+        image[4] = Vec3::splat(0.5); // (x 1, y 1) in a 3x2 image
+        let map = heat_map(&image, &reference, 3, 2, 0.5).expect("sizes match");
+        assert_eq!(map.width, 3 + BAR_GAP + BAR_WIDTH);
+        assert_eq!(map.data.len(), (map.width * map.height * 3) as usize);
+        let at = |x: u32, y: u32| {
+            let o = ((y * map.width + x) * 3) as usize;
+            [map.data[o], map.data[o + 1], map.data[o + 2]]
+        };
+        assert_eq!(at(0, 0), [0, 0, 0]);
+        assert_eq!(at(1, 1), [255, 255, 255]);
+        // Bar centre column: top is the top of the scale, bottom is zero.
+        let bar_x = 3 + BAR_GAP + BAR_WIDTH / 2;
+        assert_eq!(at(bar_x, 0), heat_colour(1.0));
+        assert_eq!(at(bar_x, 1), heat_colour(0.0));
+        assert!(heat_map(&image, &reference, 4, 2, 0.5).is_none());
+    }
+}

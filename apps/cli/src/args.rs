@@ -1,0 +1,247 @@
+//! The command line: every subcommand and flag of DESIGN.md's CLI contract, parsed by clap.
+//!
+//! Values are checked here (sizes, mode names, encodings) so that a bad value is a usage error
+//! (exit 2, clap's message) before any file is read.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Largest accepted image side, in pixels (a 16k x 16k f32 framebuffer is already 3 GiB).
+pub const MAX_SIDE: u32 = 16_384;
+
+/// `phosphor`: headless rendering, accuracy report, mesh info and benchmarks.
+#[derive(Debug, Parser)]
+#[command(
+    name = "phosphor",
+    version,
+    about = "Phosphor: CPU scan-line rendering of the classic shading models",
+    after_help = "Examples:\n  phosphor render -o out.png\n  phosphor render assets/scenes/s1.toml --shading phong --size 1280x720 -o s1.png\n  phosphor accuracy --size 320x240 --out-dir accuracy/\n  phosphor info assets/meshes/teapot.obj\n  phosphor bench --shading all --size 1280x720\n\nExit codes: 0 success, 1 input error (file, scene, mesh, output), 2 usage error."
+)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene (or a mesh in the standard scene S1) to a PNG or EXR file.
+    #[command(
+        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render scene.toml --plan               (print the frame plan only)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear) or .exr (linear f32).\nThe file is written atomically: on any error an existing file is left untouched."
+    )]
+    Render(RenderArgs),
+    /// Render in every mode, compare each with `reference`, and print a table of errors and times.
+    #[command(
+        after_help = "Example:\n  phosphor accuracy assets/scenes/s1.toml --size 320x240 --out-dir accuracy/\n\nColumns: mode, median ms per frame, time relative to gouraud, RMSE, PSNR (dB), max abs\nerror, share of pixels off by more than 1/255 (all against `reference`, linear [0,1]).\nWith --out-dir: MODE.png and MODE-error.png (false-colour heat-map with a scale bar)."
+    )]
+    Accuracy(AccuracyArgs),
+    /// Print statistics of an OBJ mesh: vertices, triangles, surfaces, smoothing groups, ...
+    #[command(after_help = "Example:\n  phosphor info assets/meshes/bunny.obj")]
+    Info(InfoArgs),
+    /// Render repeatedly after a warm-up and print timings, one line per mode.
+    #[command(
+        after_help = "Example:\n  phosphor bench assets/scenes/s1.toml --shading all --size 1280x720 --frames 20\n\nOutput, one line per mode:\n  MODE median_ms=X min_ms=Y max_ms=Z frames=N"
+    )]
+    Bench(BenchArgs),
+}
+
+/// Where the scene comes from: a scene file, a mesh in S1, or the embedded default scene.
+#[derive(Clone, Debug, Default, Args)]
+pub struct SceneSource {
+    /// Scene file (TOML); the embedded default scene when absent.
+    #[arg(value_name = "SCENE.toml")]
+    pub scene: Option<PathBuf>,
+    /// Render this OBJ mesh in the standard scene S1 (instead of a scene file).
+    #[arg(long, value_name = "FILE.obj", conflicts_with = "scene")]
+    pub mesh: Option<PathBuf>,
+}
+
+/// A shading choice on the command line: one of the modes, or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ModeArg {
+    /// Once per triangle.
+    Flat,
+    /// Per vertex, intensities interpolated.
+    Gouraud,
+    /// Per pixel with interpolated normals.
+    Phong,
+    /// Bishop & Weimer's Taylor expansion, with a fallback to phong.
+    FastPhong,
+    /// Ground truth: per pixel in f64.
+    Reference,
+    /// Per object, the cheapest mode that is good enough.
+    Auto,
+}
+
+/// Bench's shading choice: one mode, or all of them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BenchMode {
+    /// Once per triangle.
+    Flat,
+    /// Per vertex, intensities interpolated.
+    Gouraud,
+    /// Per pixel with interpolated normals.
+    Phong,
+    /// Bishop & Weimer's Taylor expansion, with a fallback to phong.
+    FastPhong,
+    /// Ground truth: per pixel in f64.
+    Reference,
+    /// Per object, the cheapest mode that is good enough.
+    Auto,
+    /// Every mode above, one line each.
+    All,
+}
+
+/// PNG encoding of the linear framebuffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EncodingArg {
+    /// sRGB transfer curve (the default for scene files).
+    Srgb,
+    /// Values stored as they are (the default for S1).
+    Linear,
+}
+
+/// An image size in pixels, `WxH` on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size {
+    /// Width in pixels, 1..=[`MAX_SIDE`].
+    pub width: u32,
+    /// Height in pixels, 1..=[`MAX_SIDE`].
+    pub height: u32,
+}
+
+/// Parses `WxH` (e.g. `640x480`); both sides whole numbers in 1..=[`MAX_SIDE`].
+pub fn parse_size(text: &str) -> Result<Size, String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH, e.g. 640x480, got `{text}`"))?;
+    let side = |s: &str| -> Result<u32, String> {
+        let v: u32 = s
+            .parse()
+            .map_err(|_| format!("expected WxH with whole numbers, e.g. 640x480, got `{text}`"))?;
+        if v == 0 || v > MAX_SIDE {
+            return Err(format!(
+                "each side must be between 1 and {MAX_SIDE}, got `{text}`"
+            ));
+        }
+        Ok(v)
+    };
+    Ok(Size {
+        width: side(w)?,
+        height: side(h)?,
+    })
+}
+
+/// `phosphor render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The scene to render.
+    #[command(flatten)]
+    pub source: SceneSource,
+    /// Shading mode for every object (overrides the scene file).
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub shading: Option<ModeArg>,
+    /// Image size (overrides the scene file).
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    pub size: Option<Size>,
+    /// Worker threads; 0 = all cores (overrides the scene file).
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// PNG encoding (overrides the scene file; EXR is always linear).
+    #[arg(long, value_enum, value_name = "srgb|linear")]
+    pub encoding: Option<EncodingArg>,
+    /// Print the frame plan (per object: mode, effects simulated, lights kept) to stdout.
+    #[arg(long)]
+    pub plan: bool,
+    /// Output image, .png or .exr (may be left out with --plan).
+    #[arg(
+        short,
+        long,
+        value_name = "OUT.png|OUT.exr",
+        required_unless_present = "plan"
+    )]
+    pub output: Option<PathBuf>,
+}
+
+/// `phosphor accuracy`.
+#[derive(Debug, Args)]
+pub struct AccuracyArgs {
+    /// The scene to measure.
+    #[command(flatten)]
+    pub source: SceneSource,
+    /// Image size (overrides the scene file).
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    pub size: Option<Size>,
+    /// Write each mode's image and error heat-map here as PNG (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out_dir: Option<PathBuf>,
+    /// Frames timed per mode (the median is reported).
+    #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: u32,
+}
+
+/// `phosphor info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// The OBJ file to describe.
+    #[arg(value_name = "FILE.obj")]
+    pub mesh: PathBuf,
+}
+
+/// `phosphor bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// The scene to time.
+    #[command(flatten)]
+    pub source: SceneSource,
+    /// Mode to time, or `all` (every mode, one line each).
+    #[arg(long, value_enum, value_name = "MODE|all", default_value = "all")]
+    pub shading: BenchMode,
+    /// Image size (overrides the scene file).
+    #[arg(long, value_name = "WxH", value_parser = parse_size)]
+    pub size: Option<Size>,
+    /// Worker threads; 0 = all cores (overrides the scene file).
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Timed frames per mode (after one untimed warm-up frame).
+    #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn command_line_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn sizes_parse_as_width_by_height() {
+        assert_eq!(
+            parse_size("64x48"),
+            Ok(Size {
+                width: 64,
+                height: 48
+            })
+        );
+        assert_eq!(parse_size("1920X1080").map(|s| s.width), Ok(1920));
+    }
+
+    #[test]
+    fn bad_sizes_are_rejected_with_a_reason() {
+        for bad in [
+            "", "64", "64x", "x48", "0x48", "64x0", "-1x5", "64x48x2", "1e3x5", "99999x1",
+        ] {
+            let err = parse_size(bad).expect_err(bad);
+            assert!(
+                err.contains("WxH") || err.contains("between"),
+                "{bad}: {err}"
+            );
+        }
+    }
+}

@@ -1,0 +1,259 @@
+//! The winit + softbuffer boilerplate: the event loop, the window, presenting pixels.
+//!
+//! Structure after ECOSYSTEM.md 2.1 (winit 0.30 `ApplicationHandler`, softbuffer 0.4): the
+//! softbuffer context is made before `run_app`, the window and surface in `resumed`, and frames
+//! are drawn only in `RedrawRequested`. The loop waits (`ControlFlow::Wait`): a frame is drawn only
+//! when input changed something, so an idle viewer uses no CPU. What is drawn is up to a [`View`]
+//! (implemented in `main.rs`); this file knows nothing of scenes.
+
+use std::num::NonZeroU32;
+use std::path::PathBuf;
+use std::rc::Rc;
+
+use softbuffer::{Context, Surface};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHandle};
+use winit::keyboard::PhysicalKey;
+use winit::window::{Window, WindowId};
+
+use crate::input::{Action, MouseDrag, key_action, wheel_pixels_to_lines};
+
+/// What the window shows and how it reacts; `main.rs` implements it with the scene renderer.
+pub trait View {
+    /// Draws a frame of `width` x `height` physical pixels into `out` (row-major, `0x00RRGGBB`,
+    /// `out.len() == width * height`). Returns an error message if it could not draw.
+    fn draw(&mut self, width: u32, height: u32, out: &mut [u32]) -> Result<(), String>;
+    /// The window title describing the last frame.
+    fn title(&self) -> String;
+    /// Applies a user action; returns true when the picture must be redrawn.
+    fn apply(&mut self, action: Action, height: u32) -> bool;
+    /// Writes the last frame drawn to `path` as PNG (atomically).
+    fn save_screenshot(&self, path: &std::path::Path) -> Result<(), String>;
+}
+
+/// How the window is opened and when it closes on its own.
+#[derive(Clone, Debug, Default)]
+pub struct WindowOptions {
+    /// Inner size in physical pixels.
+    pub size: (u32, u32),
+    /// Close after this many frames (for tests and screenshots).
+    pub frames: Option<u32>,
+    /// Write the last frame here as PNG before closing.
+    pub screenshot: Option<PathBuf>,
+}
+
+/// Why the viewer could not run.
+#[derive(Debug)]
+pub enum WindowError {
+    /// No display server could be reached (no `DISPLAY`, no Wayland socket, or it refused us).
+    NoDisplay(String),
+    /// The window opened but drawing, presenting or saving failed.
+    Failed(String),
+}
+
+/// Runs the viewer until the window is closed (or the frame count is reached).
+pub fn run<V: View>(view: V, options: WindowOptions) -> Result<(), WindowError> {
+    let event_loop = EventLoop::new().map_err(|e| WindowError::NoDisplay(one_line(&e)))?;
+    event_loop.set_control_flow(ControlFlow::Wait);
+    let context = Context::new(event_loop.owned_display_handle())
+        .map_err(|e| WindowError::NoDisplay(one_line(&e)))?;
+    let mut app = App {
+        view,
+        options,
+        context,
+        gfx: None,
+        drag: MouseDrag::default(),
+        shift: false,
+        frames_drawn: 0,
+        error: None,
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| WindowError::Failed(one_line(&e)))?;
+    match app.error {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// Error text on one line (some platform errors carry newlines), without winit's source location
+/// (`os error at /path/to/mod.rs:765: why` becomes `why`).
+fn one_line(e: &dyn std::fmt::Display) -> String {
+    let text = e
+        .to_string()
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    match text.find(".rs:") {
+        Some(at) => match text[at..].find(": ") {
+            Some(colon) => text[at + colon + 2..].to_string(),
+            None => text,
+        },
+        None => text,
+    }
+}
+
+/// The window and the surface presenting into it.
+struct Gfx {
+    window: Rc<Window>,
+    surface: Surface<OwnedDisplayHandle, Rc<Window>>,
+}
+
+/// The `ApplicationHandler`: event plumbing between winit, softbuffer and the [`View`].
+struct App<V: View> {
+    view: V,
+    options: WindowOptions,
+    context: Context<OwnedDisplayHandle>,
+    gfx: Option<Gfx>,
+    drag: MouseDrag,
+    shift: bool,
+    frames_drawn: u32,
+    error: Option<WindowError>,
+}
+
+impl<V: View> App<V> {
+    /// Stops the loop, keeping the first error.
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: WindowError) {
+        if self.error.is_none() {
+            self.error = Some(error);
+        }
+        event_loop.exit();
+    }
+
+    /// Draws and presents one frame at the window's physical size.
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(gfx) = self.gfx.as_mut() else { return };
+        // Size from inner_size(), not from Resized: X11 sends no initial Resized (ECOSYSTEM 2.1).
+        let size = gfx.window.inner_size();
+        let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
+            return; // minimised
+        };
+        let result = gfx
+            .surface
+            .resize(w, h)
+            .map_err(|e| one_line(&e))
+            .and_then(|()| gfx.surface.buffer_mut().map_err(|e| one_line(&e)))
+            .and_then(|mut buffer| {
+                self.view.draw(w.get(), h.get(), &mut buffer)?;
+                buffer.present().map_err(|e| one_line(&e))
+            });
+        if let Err(e) = result {
+            self.fail(event_loop, WindowError::Failed(e));
+            return;
+        }
+        gfx.window.set_title(&self.view.title());
+        self.frames_drawn += 1;
+        self.after_frame(event_loop);
+    }
+
+    /// In `--frames` mode: asks for the next frame, or saves the screenshot and exits.
+    fn after_frame(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(limit) = self.options.frames else {
+            return;
+        };
+        if self.frames_drawn < limit {
+            if let Some(gfx) = &self.gfx {
+                gfx.window.request_redraw();
+            }
+            return;
+        }
+        if let Some(path) = self.options.screenshot.clone() {
+            if let Err(e) = self.view.save_screenshot(&path) {
+                self.fail(event_loop, WindowError::Failed(e));
+                return;
+            }
+        }
+        event_loop.exit();
+    }
+
+    /// Applies an action and schedules a frame if the picture changed.
+    fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) {
+        if action == Action::Quit {
+            event_loop.exit();
+            return;
+        }
+        let height = self
+            .gfx
+            .as_ref()
+            .map_or(1, |g| g.window.inner_size().height.max(1));
+        if self.view.apply(action, height) {
+            if let Some(gfx) = &self.gfx {
+                gfx.window.request_redraw();
+            }
+        }
+    }
+}
+
+impl<V: View> ApplicationHandler for App<V> {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_some() {
+            return;
+        }
+        let (w, h) = self.options.size;
+        let attributes = Window::default_attributes()
+            .with_title(self.view.title())
+            .with_inner_size(PhysicalSize::new(w.max(1), h.max(1)));
+        let window = match event_loop.create_window(attributes) {
+            Ok(window) => Rc::new(window),
+            Err(e) => return self.fail(event_loop, WindowError::NoDisplay(one_line(&e))),
+        };
+        let surface = match Surface::new(&self.context, window.clone()) {
+            Ok(surface) => surface,
+            Err(e) => return self.fail(event_loop, WindowError::Failed(one_line(&e))),
+        };
+        window.request_redraw();
+        self.gfx = Some(Gfx { window, surface });
+    }
+
+    fn suspended(&mut self, _event_loop: &ActiveEventLoop) {
+        self.gfx = None;
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::RedrawRequested => self.redraw(event_loop),
+            // Physical size changed (also after a scale change): draw at the new size.
+            WindowEvent::Resized(_) | WindowEvent::ScaleFactorChanged { .. } => {
+                if let Some(gfx) = &self.gfx {
+                    gfx.window.request_redraw();
+                }
+            }
+            WindowEvent::ModifiersChanged(modifiers) => {
+                self.shift = modifiers.state().shift_key();
+                self.drag.set_shift(self.shift);
+            }
+            WindowEvent::KeyboardInput { event, .. } => {
+                if event.state != ElementState::Pressed || event.repeat {
+                    return;
+                }
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    if let Some(action) = key_action(code, self.shift) {
+                        self.act(event_loop, action);
+                    }
+                }
+            }
+            WindowEvent::MouseInput { state, button, .. } => {
+                self.drag.button(button, state == ElementState::Pressed);
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if let Some(action) = self.drag.moved(position.x, position.y) {
+                    self.act(event_loop, action);
+                }
+            }
+            WindowEvent::CursorLeft { .. } => self.drag.cursor_left(),
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => wheel_pixels_to_lines(p.y),
+                };
+                if lines != 0.0 {
+                    self.act(event_loop, Action::Zoom(lines));
+                }
+            }
+            _ => {}
+        }
+    }
+}
