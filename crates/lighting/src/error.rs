@@ -1,0 +1,75 @@
+//! Validation errors of the lighting constructors.
+
+use thiserror::Error;
+
+/// Why a [`crate::Material`] or [`crate::Light`] was rejected. Each variant names the field.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum LightingError {
+    /// A coefficient or intensity is below zero.
+    #[error("{field}: must be non-negative, got {value}")]
+    Negative {
+        /// The offending field (`ka`, `intensity`, ...).
+        field: &'static str,
+        /// The offending value (one channel for colours).
+        value: f32,
+    },
+    /// A value is NaN or infinite.
+    #[error("{field}: must be finite, got {value}")]
+    NonFinite {
+        /// The offending field.
+        field: &'static str,
+        /// The offending value.
+        value: f32,
+    },
+    /// A direction or edge vector has (almost) zero length and defines no direction.
+    #[error("{field}: must be a non-zero vector")]
+    ZeroVector {
+        /// The offending field.
+        field: &'static str,
+    },
+    /// A value lies outside its allowed range.
+    #[error("{field}: must be in {range}, got {value}")]
+    OutOfRange {
+        /// The offending field.
+        field: &'static str,
+        /// The offending value.
+        value: f32,
+        /// The allowed range, in words.
+        range: &'static str,
+    },
+}
+
+/// Checks that `value` is finite and non-negative.
+pub(crate) fn check_scalar(field: &'static str, value: f32) -> Result<(), LightingError> {
+    if !value.is_finite() {
+        return Err(LightingError::NonFinite { field, value });
+    }
+    if value < 0.0 {
+        return Err(LightingError::Negative { field, value });
+    }
+    Ok(())
+}
+
+/// Checks that every channel of `rgb` is finite and non-negative.
+pub(crate) fn check_rgb(field: &'static str, rgb: glam::Vec3) -> Result<(), LightingError> {
+    rgb.to_array()
+        .into_iter()
+        .try_for_each(|c| check_scalar(field, c))
+}
+
+/// Checks that `v` is finite (any sign).
+pub(crate) fn check_finite_vec(field: &'static str, v: glam::Vec3) -> Result<(), LightingError> {
+    match v.to_array().into_iter().find(|c| !c.is_finite()) {
+        Some(value) => Err(LightingError::NonFinite { field, value }),
+        None => Ok(()),
+    }
+}
+
+/// Checks that `v` is finite and long enough to normalize.
+pub(crate) fn check_direction(field: &'static str, v: glam::Vec3) -> Result<(), LightingError> {
+    check_finite_vec(field, v)?;
+    if v.length_squared() < phosphor_math::MIN_NORMALIZABLE_LENGTH_SQUARED {
+        return Err(LightingError::ZeroVector { field });
+    }
+    Ok(())
+}

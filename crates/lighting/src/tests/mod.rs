@@ -1,0 +1,8 @@
+//! Cross-module tests: the seeds' equations by hand, numeric edge cases, the Effects
+//! equivalence for every subset, and property tests of the bounds.
+
+mod effects_equivalence;
+mod numerics;
+mod properties;
+mod seeds;
+mod support;

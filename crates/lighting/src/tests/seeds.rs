@@ -1,0 +1,166 @@
+//! Hand-computed values of each seed equation, to 1e-6.
+
+use glam::Vec3;
+
+use super::support::assert_close;
+use crate::{Attenuation, Effects, Light, LightSet, Material, shade, shade_reference};
+
+const ALL: u32 = Effects::ALL.bits();
+const TOL: f32 = 1e-6;
+// Light at (3, 0, 4): d = 5 from the origin, L = (0.6, 0, 0.8), N = +Z so N.L = 0.8.
+const LIGHT_POS: Vec3 = Vec3::new(3.0, 0.0, 4.0);
+
+fn material(ka: f32, kd: f32, ks: f32, ns: f32) -> Material {
+    Material::new(Vec3::splat(ka), Vec3::splat(kd), Vec3::splat(ks), ns).unwrap()
+}
+
+fn at_origin(set: &LightSet, m: &Material, eye: Vec3) -> Vec3 {
+    shade::<ALL>(set, m, Vec3::ZERO, Vec3::Z, eye)
+}
+
+#[test]
+fn self_luminous_intensity_is_ka_as_is() {
+    // seeds: I = Ka (self-luminous object, no light source).
+    let m = material(0.0, 0.0, 0.0, 1.0)
+        .with_emission(Vec3::new(0.3, 0.2, 0.1))
+        .unwrap();
+    let set = LightSet::new(Vec3::ZERO, &[]);
+    assert_close(
+        at_origin(&set, &m, Vec3::Z),
+        Vec3::new(0.3, 0.2, 0.1),
+        TOL,
+        "I = Ka",
+    );
+}
+
+#[test]
+fn ambient_intensity_is_ia_times_ka() {
+    // seeds: I = Ia Ka, per channel: (0.5, 0.4, 1) * (0.2, 0.5, 0.1) = (0.1, 0.2, 0.1).
+    let m = Material::new(Vec3::new(0.2, 0.5, 0.1), Vec3::ZERO, Vec3::ZERO, 1.0).unwrap();
+    let set = LightSet::new(Vec3::new(0.5, 0.4, 1.0), &[]);
+    assert_close(
+        at_origin(&set, &m, Vec3::Z),
+        Vec3::new(0.1, 0.2, 0.1),
+        TOL,
+        "I = Ia Ka",
+    );
+}
+
+#[test]
+fn lambert_diffuse_is_kd_il_n_dot_l() {
+    // seeds: I = Kd Il (N.L) = 0.5 * 2 * 0.8 = 0.8.
+    let set = LightSet::new(
+        Vec3::ZERO,
+        &[Light::point(LIGHT_POS, Vec3::splat(2.0)).unwrap()],
+    );
+    let m = material(0.0, 0.5, 0.0, 1.0);
+    assert_close(
+        at_origin(&set, &m, Vec3::Z * 9.0),
+        Vec3::splat(0.8),
+        TOL,
+        "Lambert",
+    );
+}
+
+#[test]
+fn ambient_plus_diffuse_is_ka_ia_plus_kd_il_n_dot_l() {
+    // seeds: I = Ka Ia + Kd Il (N.L) = 0.1 * 0.5 + 0.5 * 2 * 0.8 = 0.85.
+    let set = LightSet::new(
+        Vec3::splat(0.5),
+        &[Light::point(LIGHT_POS, Vec3::splat(2.0)).unwrap()],
+    );
+    let m = material(0.1, 0.5, 0.0, 1.0);
+    assert_close(
+        at_origin(&set, &m, Vec3::Z),
+        Vec3::splat(0.85),
+        TOL,
+        "ambient + diffuse",
+    );
+}
+
+#[test]
+fn reflection_vector_is_two_n_dot_l_n_minus_l() {
+    // seeds: R = (2 N.L) N - L = 1.6 (0, 0, 1) - (0.6, 0, 0.8) = (-0.6, 0, 0.8).
+    let r = phosphor_math::reflect(Vec3::Z, LIGHT_POS / 5.0);
+    assert_close(r, Vec3::new(-0.6, 0.0, 0.8), TOL, "R");
+}
+
+#[test]
+fn phong_specular_is_ks_il_v_dot_r_to_the_ns() {
+    let set = LightSet::new(Vec3::ZERO, &[Light::point(LIGHT_POS, Vec3::ONE).unwrap()]);
+    let m = material(0.0, 0.0, 0.5, 8.0);
+    // Viewer along R = (-0.6, 0, 0.8): V.R = 1, I = Ks Il = 0.5.
+    let on_r = Vec3::new(-0.6, 0.0, 0.8) * 5.0;
+    assert_close(at_origin(&set, &m, on_r), Vec3::splat(0.5), TOL, "V on R");
+    // Viewer along N: V.R = 0.8, I = 0.5 * 0.8^8 = 0.08388608.
+    assert_close(
+        at_origin(&set, &m, Vec3::Z * 5.0),
+        Vec3::splat(0.083_886_08),
+        TOL,
+        "V on N",
+    );
+    // The f64 reference agrees.
+    let r = shade_reference(
+        &set,
+        &m,
+        glam::DVec3::ZERO,
+        glam::DVec3::Z,
+        glam::DVec3::Z * 5.0,
+    );
+    assert!((r.x - 0.083_886_08).abs() < 1e-9);
+}
+
+#[test]
+fn offset_attenuation_divides_by_k_plus_d() {
+    // seeds: I = Ia ka + Il [kd (n.s) + ks (v.r)^t] / (K + d), K = 1, d = 5:
+    // 0.2 * 0.5 + 2 * [0.5 * 0.8 + 0.5 * 0.8^8] / 6.
+    let light = Light::point(LIGHT_POS, Vec3::splat(2.0))
+        .unwrap()
+        .with_attenuation(Attenuation::Offset { k: 1.0 })
+        .unwrap();
+    let set = LightSet::new(Vec3::splat(0.5), &[light]);
+    let m = material(0.2, 0.5, 0.5, 8.0);
+    let expected = 0.1 + 2.0 * (0.4 + 0.5 * 0.167_772_16) / 6.0;
+    assert_close(
+        at_origin(&set, &m, Vec3::Z),
+        Vec3::splat(expected),
+        TOL,
+        "1/(K+d)",
+    );
+}
+
+#[test]
+fn several_lights_sum_their_reflected_intensities() {
+    // seeds: "the sum of the reflected light intensities must be used".
+    let a = Light::point(LIGHT_POS, Vec3::splat(2.0)).unwrap();
+    let b = Light::directional(-Vec3::Z, Vec3::new(1.0, 0.5, 0.0)).unwrap();
+    let m = material(0.0, 0.5, 0.0, 1.0);
+    let both = at_origin(&LightSet::new(Vec3::ZERO, &[a, b]), &m, Vec3::Z);
+    let expected = Vec3::splat(0.8) + 0.5 * Vec3::new(1.0, 0.5, 0.0);
+    assert_close(both, expected, TOL, "sum over lights");
+}
+
+#[test]
+fn specular_intensity_can_differ_from_diffuse_as_opengl_allows() {
+    let light = Light::point(LIGHT_POS, Vec3::splat(2.0))
+        .unwrap()
+        .with_specular_intensity(Vec3::new(1.0, 0.0, 0.0))
+        .unwrap();
+    let set = LightSet::new(Vec3::ZERO, &[light]);
+    let m = material(0.0, 0.5, 0.5, 8.0);
+    let i = at_origin(&set, &m, Vec3::new(-0.6, 0.0, 0.8));
+    assert_close(
+        i,
+        Vec3::new(0.8 + 0.5, 0.8, 0.8),
+        TOL,
+        "separate specular Il",
+    );
+}
+
+#[test]
+fn s1_light_set_lights_the_front_of_a_unit_sphere() {
+    let set = LightSet::new(Vec3::ONE, &Light::s1_lights());
+    let p = Vec3::new(0.0, 0.0, 1.0);
+    let i = shade::<ALL>(&set, &Material::s1(), p, Vec3::Z, Vec3::new(0.0, 0.0, 3.0));
+    assert!(i.min_element() > 0.1 && i.is_finite());
+}
