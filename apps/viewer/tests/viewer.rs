@@ -1,0 +1,67 @@
+//! The viewer binary end to end. winit's event loop must run on the main thread, once per
+//! process, so these tests spawn `phosphor-viewer` rather than calling it (ECOSYSTEM.md 2.3).
+
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+/// How long a headless run may take before the test gives up on it.
+const TIMEOUT: Duration = Duration::from_secs(180);
+
+fn viewer() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_phosphor-viewer"))
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Runs `cmd` to completion, killing it after [`TIMEOUT`].
+fn run_with_timeout(mut cmd: Command) -> Output {
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn");
+    let started = Instant::now();
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return child.wait_with_output().expect("output");
+        }
+        if started.elapsed() > TIMEOUT {
+            let _ = child.kill();
+            let out = child.wait_with_output().expect("output");
+            panic!("timed out after {TIMEOUT:?}; stderr: {}", text(&out.stderr));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn without_a_display_the_viewer_says_so_and_points_to_render() {
+    let mut cmd = viewer();
+    cmd.env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .args(["--frames", "1"]);
+    let out = run_with_timeout(cmd);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.starts_with("error: no display available ("),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("use `phosphor render` to render to a file"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+}
+
+#[test]
+fn a_bad_size_is_a_usage_error() {
+    let mut cmd = viewer();
+    cmd.args(["--size", "wide"]);
+    let out = run_with_timeout(cmd);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains("WxH"));
+}
