@@ -18,6 +18,15 @@
 //! the normal with the attenuation factor capped at `1/MIN_ATTENUATION_DENOMINATOR`; results
 //! are clamped to `[0, f32::MAX]` by [`finite_intensity`].
 //!
+//! Attenuation: pick [`Attenuation::Offset`] (the seeds' `1/(K+d)`, S1 uses `K = 1`); the
+//! seeds found the physical `1/d^2` "produced too much contrast" ([`attenuation`] explains).
+//!
+//! Effects: `shade::<FX>` evaluates only the terms whose [`Effects`] bit is in `FX`; with the
+//! absent terms' coefficients zero (or their lights absent) it equals `shade::<{ALL}>`
+//! (tested for all 512 subsets). A planner derives the minimal set with [`effects_for`]
+//! (`LightSet::effects_needed() & Material::effects_needed()`) and turns runtime bits into a
+//! const instantiation with [`dispatch_effects!`] or [`shade_dyn`].
+//!
 //! # One worked example per model
 //!
 //! ```
@@ -95,7 +104,21 @@
 //!
 //! # Cost per call
 //!
-//! (figures pending)
+//! Nanoseconds per `shade::<FX>` call, S1's material (with Schlick Fresnel), point lights with
+//! `1/(1+d)`, each level adding one effect to the previous one
+//! (`cargo bench --bench lighting -- --quick --warm-up-time 0.5 --measurement-time 1`,
+//! criterion median, a shared 2-core machine under load from other builds, so +-10%):
+//!
+//! | effects                 | 1 light | 3 lights | 8 lights |
+//! |-------------------------|--------:|---------:|---------:|
+//! | ambient only            |     2.3 |      2.3 |      2.3 |
+//! | + diffuse               |    25.1 |     31.2 |     47.7 |
+//! | + specular (Phong)      |    38.8 |     56.0 |     99.2 |
+//! | + Fresnel (Schlick)     |    40.9 |     59.8 |    112.3 |
+//! | + attenuation `1/(K+d)` |    41.4 |     63.5 |    120.6 |
+//!
+//! Ambient only does not touch the lights (the loops are compiled out); the fixed cost of the
+//! lit levels is the normalization of `N` and `V` and the output guards.
 
 #![cfg_attr(test, allow(clippy::unwrap_used))]
 

@@ -2,6 +2,7 @@
 //! equivalence for every subset, and property tests of the bounds.
 
 mod effects_equivalence;
+mod lights;
 mod numerics;
 mod properties;
 mod seeds;
