@@ -37,6 +37,16 @@ pub enum LightingError {
         /// The allowed range, in words.
         range: &'static str,
     },
+    /// A name (from a scene file) is not one of the known ones.
+    #[error("{field}: unknown name {name:?}, expected {expected}")]
+    UnknownName {
+        /// The offending field.
+        field: &'static str,
+        /// The name given.
+        name: String,
+        /// The accepted names, in words.
+        expected: &'static str,
+    },
 }
 
 /// Checks that `value` is finite and non-negative.

@@ -117,8 +117,10 @@
 //! | + Fresnel (Schlick)     |    40.9 |     59.8 |    112.3 |
 //! | + attenuation `1/(K+d)` |    41.4 |     63.5 |    120.6 |
 //!
-//! Ambient only does not touch the lights (the loops are compiled out); the fixed cost of the
-//! lit levels is the normalization of `N` and `V` and the output guards.
+//! Ambient only does not touch the lights (the loops are compiled out). Each call is timed in
+//! isolation, so the lit levels pay the latency of one dependent chain (distance square root,
+//! reciprocal, dot products) of about 20 ns; further lights overlap and add 2-4 ns (diffuse)
+//! to 9-11 ns (with specular) each. Unit normals are used as given (no renormalization).
 
 #![cfg_attr(test, allow(clippy::unwrap_used))]
 

@@ -115,6 +115,12 @@ impl LightSet {
         set
     }
 
+    /// The standard scene S1's lights: `Ia = 1` and [`Light::s1_lights`].
+    #[must_use]
+    pub fn s1() -> LightSet {
+        LightSet::new(Vec3::ONE, &Light::s1_lights())
+    }
+
     /// Like [`LightSet::new`] but reports the first invalid light (by index) instead of
     /// dropping it.
     ///

@@ -1,6 +1,9 @@
 //! Surface optical properties: the seeds' `ka`, `kd`, `ks`, `n_s`, `W(theta)` and the
 //! self-luminous intensity.
 
+use std::fmt;
+use std::str::FromStr;
+
 use glam::Vec3;
 
 use crate::effects::Effects;
@@ -15,6 +18,40 @@ pub enum SpecularModel {
     Phong,
     /// Blinn: `(N.H)^n_s` with the half vector `H = (L + V)/|L + V|`.
     Blinn,
+}
+
+impl SpecularModel {
+    /// The scene-file name: `"phong"` or `"blinn"`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            SpecularModel::Phong => "phong",
+            SpecularModel::Blinn => "blinn",
+        }
+    }
+}
+
+impl fmt::Display for SpecularModel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Parses the scene-file names `"phong"` and `"blinn"` (ASCII case-insensitive).
+impl FromStr for SpecularModel {
+    type Err = LightingError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "phong" => Ok(SpecularModel::Phong),
+            "blinn" => Ok(SpecularModel::Blinn),
+            _ => Err(LightingError::UnknownName {
+                field: "specular",
+                name: s.to_owned(),
+                expected: "\"phong\" or \"blinn\"",
+            }),
+        }
+    }
 }
 
 /// A material: reflection coefficients per RGB channel (x = r, y = g, z = b).
@@ -164,6 +201,19 @@ mod tests {
         let e = Material::s1().with_emission(Vec3::NEG_ONE).unwrap_err();
         assert!(e.to_string().starts_with("emission"));
         assert!(Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, f32::MAX).is_ok());
+    }
+
+    #[test]
+    fn specular_model_names_round_trip_and_unknown_names_are_rejected() {
+        for m in [SpecularModel::Phong, SpecularModel::Blinn] {
+            assert_eq!(m.to_string().parse::<SpecularModel>(), Ok(m));
+        }
+        assert_eq!("Blinn".parse::<SpecularModel>(), Ok(SpecularModel::Blinn));
+        let e = "cook-torrance".parse::<SpecularModel>().unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "specular: unknown name \"cook-torrance\", expected \"phong\" or \"blinn\""
+        );
     }
 
     #[test]

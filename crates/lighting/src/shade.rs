@@ -107,7 +107,7 @@ pub fn shade_split<const FX: u32>(
     if !has(FX, Effects::DIFFUSE) && !has(FX, Effects::SPECULAR) {
         return terms;
     }
-    let n = safe_normalize(n, Vec3::ZERO);
+    let n = unit_normal(n);
     if n == Vec3::ZERO {
         return terms;
     }
@@ -136,6 +136,22 @@ pub fn shade_split<const FX: u32>(
     terms.diffuse = finite_intensity(acc.diffuse);
     terms.specular = finite_intensity(acc.specular);
     terms
+}
+
+/// Normals whose squared length is within this of 1 are used as given (the rasterizer passes
+/// unit normals; renormalizing them would cost a square root and a division per pixel).
+pub const UNIT_NORMAL_TOLERANCE: f32 = 1e-6;
+
+/// `n` when it is already unit (within [`UNIT_NORMAL_TOLERANCE`] in squared length), else
+/// `safe_normalize(n, 0)`: zero for a zero, tiny or non-finite normal.
+#[inline(always)]
+fn unit_normal(n: Vec3) -> Vec3 {
+    // NaN or infinite lengths fail the comparison and take the guarded path.
+    if (n.length_squared() - 1.0).abs() <= UNIT_NORMAL_TOLERANCE {
+        n
+    } else {
+        safe_normalize(n, Vec3::ZERO)
+    }
 }
 
 /// Unit vector from `p` towards a positional light (falling back to `n` when the light is at
