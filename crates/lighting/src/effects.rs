@@ -123,6 +123,78 @@ impl Effects {
     }
 }
 
+/// Lighting levels a draw's effects are rounded up to by [`Effects::canonical`], cheapest
+/// first. Each includes AMBIENT and EMISSION (they cost one multiply-add) from the second on.
+pub const CANONICAL_LEVELS: [Effects; 8] = {
+    const fn bits(list: &[Effects]) -> Effects {
+        let mut acc = 0;
+        let mut i = 0;
+        while i < list.len() {
+            acc |= list[i].0;
+            i += 1;
+        }
+        Effects(acc)
+    }
+    use Effects as E;
+    const BASE: [Effects; 2] = [E::AMBIENT, E::EMISSION];
+    [
+        E::NONE,
+        bits(&BASE),
+        bits(&[BASE[0], BASE[1], E::DIFFUSE]),
+        bits(&[BASE[0], BASE[1], E::DIFFUSE, E::ATTENUATION]),
+        bits(&[BASE[0], BASE[1], E::DIFFUSE, E::SPECULAR]),
+        bits(&[BASE[0], BASE[1], E::DIFFUSE, E::SPECULAR, E::ATTENUATION]),
+        bits(&[
+            BASE[0],
+            BASE[1],
+            E::DIFFUSE,
+            E::SPECULAR,
+            E::FRESNEL,
+            E::ATTENUATION,
+        ]),
+        E::LIGHTING,
+    ]
+};
+
+/// The bits of the 16 canonical sets: [`CANONICAL_LEVELS`], then the same with
+/// [`Effects::BUMP`]; index with [`Effects::canonical_index`].
+pub const CANONICAL_BITS: [u32; 16] = {
+    let mut out = [0; 16];
+    let mut i = 0;
+    while i < 8 {
+        out[i] = CANONICAL_LEVELS[i].0;
+        out[i + 8] = CANONICAL_LEVELS[i].0 | Effects::BUMP.0;
+        i += 1;
+    }
+    out
+};
+
+impl Effects {
+    /// Index into [`CANONICAL_BITS`] of the cheapest canonical set containing `self`.
+    #[must_use]
+    pub const fn canonical_index(self) -> usize {
+        let lighting = self.0 & Self::LIGHTING.0;
+        let mut level = 0;
+        while level < CANONICAL_LEVELS.len() - 1 && lighting & !CANONICAL_LEVELS[level].0 != 0 {
+            level += 1;
+        }
+        if self.0 & Self::BUMP.0 != 0 {
+            level + 8
+        } else {
+            level
+        }
+    }
+
+    /// The cheapest canonical superset of `self` (BUMP kept as is). Shading with a superset of
+    /// what the inputs need gives the same result (the absent-term equivalence), so a
+    /// rasterizer can instantiate its kernels for these 16 sets only instead of 512, at the
+    /// price of evaluating a few terms whose coefficients are zero.
+    #[must_use]
+    pub const fn canonical(self) -> Effects {
+        Effects(CANONICAL_BITS[self.canonical_index()])
+    }
+}
+
 impl BitOr for Effects {
     type Output = Effects;
     fn bitor(self, rhs: Effects) -> Effects {
@@ -193,6 +265,44 @@ macro_rules! dispatch_effects {
     };
 }
 
+/// Like [`dispatch_effects!`] but binds `$fx` to [`Effects::canonical`] of the runtime bits:
+/// 16 instantiations instead of 512, same results (see [`Effects::canonical`]).
+///
+/// ```
+/// use phosphor_lighting::{dispatch_canonical_effects, Effects};
+/// fn bits<const FX: u32>() -> u32 { FX }
+/// let fx = Effects::DIFFUSE;
+/// let canonical = dispatch_canonical_effects!(fx, FX => bits::<FX>());
+/// assert_eq!(canonical, (Effects::AMBIENT | Effects::EMISSION | Effects::DIFFUSE).bits());
+/// ```
+#[macro_export]
+macro_rules! dispatch_canonical_effects {
+    ($effects:expr, $fx:ident => $body:expr) => {
+        $crate::__dispatch_canonical_arms!(
+            $effects, $fx, $body, [0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15]
+        )
+    };
+}
+
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __dispatch_canonical_arms {
+    ($effects:expr, $fx:ident, $body:expr, [$($n:literal)*]) => {
+        match $crate::Effects::canonical_index($effects) {
+            $( $n => {
+                #[allow(non_upper_case_globals)]
+                const $fx: u32 = $crate::effects::CANONICAL_BITS[$n];
+                $body
+            } )*
+            _ => {
+                #[allow(non_upper_case_globals)]
+                const $fx: u32 = $crate::Effects::ALL.bits();
+                $body
+            }
+        }
+    };
+}
+
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __dispatch_effects_arms {
@@ -238,6 +348,22 @@ mod tests {
         assert_eq!(Effects::from_bits_truncate(a.bits() | 1 << 20), a);
         assert_eq!(a.to_string(), "ambient+diffuse");
         assert_eq!(Effects::NONE.to_string(), "none");
+    }
+
+    #[test]
+    fn canonical_sets_are_the_cheapest_listed_supersets() {
+        for bits in 0..512 {
+            let fx = Effects::from_bits_truncate(bits);
+            let c = fx.canonical();
+            assert!(c.contains(fx), "{fx} -> {c}");
+            assert_eq!(c.contains(Effects::BUMP), fx.contains(Effects::BUMP));
+            let level = fx.canonical_index() % 8;
+            for cheaper in &CANONICAL_LEVELS[..level] {
+                assert!(!cheaper.contains(fx.intersection(Effects::LIGHTING)));
+            }
+        }
+        assert_eq!(Effects::NONE.canonical(), Effects::NONE);
+        assert_eq!(Effects::ALL.canonical(), Effects::ALL);
     }
 
     #[test]

@@ -25,7 +25,9 @@
 //! absent terms' coefficients zero (or their lights absent) it equals `shade::<{ALL}>`
 //! (tested for all 512 subsets). A planner derives the minimal set with [`effects_for`]
 //! (`LightSet::effects_needed() & Material::effects_needed()`) and turns runtime bits into a
-//! const instantiation with [`dispatch_effects!`] or [`shade_dyn`].
+//! const instantiation with [`dispatch_effects!`] or [`shade_dyn`] (512 instantiations), or
+//! rounds them up with [`Effects::canonical`] and [`dispatch_canonical_effects!`] (16, same
+//! results: shading with a superset of the needed effects changes nothing).
 //!
 //! # One worked example per model
 //!
@@ -144,7 +146,7 @@ pub use lightset::{LightSet, PreparedDirectional, PreparedPoint, PreparedSpot, e
 pub use material::{Material, SpecularModel};
 pub use pow_table::PowTable;
 pub use reference::shade_reference;
-pub use shade::{ShadeTerms, finite_intensity, shade, shade_dyn, shade_split};
+pub use shade::{ShadeTerms, finite_intensity, shade, shade_canonical, shade_dyn, shade_split};
 
 #[cfg(test)]
 mod tests;

@@ -232,3 +232,18 @@ pub fn shade_dyn(
 ) -> Vec3 {
     crate::dispatch_effects!(effects, FX => shade::<FX>(set, mat, p, n, eye))
 }
+
+/// [`shade`] through [`crate::dispatch_canonical_effects`]: the runtime `effects` rounded up
+/// to their canonical superset (16 instantiations), same result as [`shade_dyn`].
+#[inline]
+#[must_use]
+pub fn shade_canonical(
+    effects: Effects,
+    set: &LightSet,
+    mat: &Material,
+    p: Vec3,
+    n: Vec3,
+    eye: Vec3,
+) -> Vec3 {
+    crate::dispatch_canonical_effects!(effects, FX => shade::<FX>(set, mat, p, n, eye))
+}

@@ -7,7 +7,7 @@ use glam::Vec3;
 use super::support::{Rng, assert_close, random_lights, random_material};
 use crate::{
     Attenuation, Effects, Fresnel, Light, LightKind, LightSet, Material, effects_for, shade,
-    shade_dyn, shade_split,
+    shade_canonical, shade_dyn, shade_split,
 };
 
 const ALL: u32 = Effects::ALL.bits();
@@ -61,6 +61,13 @@ fn every_effect_subset_equals_the_general_path_with_absent_terms_zeroed() {
             let general = shade::<ALL>(&set, &mat, p, n, eye);
             let special = shade_dyn(fx, &set, &mat, p, n, eye);
             assert_close(special, general, 1e-6, &format!("{fx} trial {trial}"));
+            let rounded_up = shade_canonical(fx, &set, &mat, p, n, eye);
+            assert_close(
+                rounded_up,
+                general,
+                1e-6,
+                &format!("canonical {fx} trial {trial}"),
+            );
             // The zeroed inputs need no effect outside fx.
             let needed = effects_for(&set, &mat);
             assert!(fx.contains(needed), "{fx}: needs {needed}");
@@ -94,6 +101,13 @@ fn the_planners_minimal_effect_set_reproduces_the_full_model() {
         let minimal = shade_dyn(fx, &set, &mat, p, n, eye);
         let general = shade::<ALL>(&set, &mat, p, n, eye);
         assert_close(minimal, general, 1e-6, &format!("trial {trial}, {fx}"));
+        let canonical = shade_canonical(fx, &set, &mat, p, n, eye);
+        assert_close(
+            canonical,
+            general,
+            1e-6,
+            &format!("trial {trial}, canonical {fx}"),
+        );
     }
 }
 
