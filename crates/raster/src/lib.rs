@@ -1,1 +1,212 @@
-//! The scan-line rasterizer and its shading modes (being built).
+//! The scan-line rasterizer of Phosphor and its shading modes.
+//!
+//! The pipeline per draw: vertex stage (model, view, projection with glam's right-handed
+//! look-at and OpenGL perspective), homogeneous clipping against the near plane and a guard
+//! band ([`clip`]), perspective divide, viewport and 1/256-pixel snapping ([`setup`]), optional
+//! back-face culling, then scan-line traversal ([`scanline`]) over horizontal bands in parallel
+//! ([`bands`]) with a z-buffer (depth in `[0, 1]`, less-than test, the far plane not drawn).
+//!
+//! Conventions (DESIGN.md): row 0 at the top, pixel centres at `(x + 0.5, y + 0.5)`, front faces
+//! counter-clockwise. Coverage follows a top-left rule for spans: rows `ceil(y0 - 0.5) ..
+//! ceil(y2 - 0.5)`, pixels `[ceil(xl - 0.5), ceil(xr - 0.5))`, evaluated exactly in integers,
+//! so a pixel centre on an edge shared by two triangles is drawn exactly once. Attributes are
+//! perspective-correct by default (`A/w` and `1/w` stepped, divided per pixel); with
+//! [`RenderOptions::perspective_correct`] off they are stepped linearly in screen space, the
+//! seeds' "carried out in two dimensions" approximation.
+//!
+//! Shading modes ([`ShadingMode`]): `flat`, `gouraud`, `phong`, `fast-phong` (quadratic fit
+//! with a per-triangle fallback to `phong`) and `reference` (f64, exact). See [`shade`] for the
+//! effect specializations and [`bump`] for bump mapping. Every colour written is checked
+//! finite (debug) and clamped to `[0, 1]`.
+//!
+//! ```
+//! use glam::{Mat4, Vec3};
+//! use phosphor_lighting::{Effects, Light, LightSet, Material};
+//! use phosphor_raster::*;
+//!
+//! // One triangle facing the S1 camera, lit from the front.
+//! let positions = [Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, -1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+//! let normals = [Vec3::Z; 3];
+//! let indices = [[0u32, 1, 2]];
+//! let lights = LightSet::new(Vec3::splat(0.1), &[Light::directional(-Vec3::Z, Vec3::ONE).unwrap()]);
+//! let material = Material::s1();
+//! let draw = DrawItem {
+//!     mesh: MeshView { positions: &positions, normals: &normals, uvs: None, tangents: None, indices: &indices },
+//!     model: Mat4::IDENTITY,
+//!     material: &material,
+//!     lights: &lights,
+//!     effects: Effects::ALL,
+//!     mode: ShadingMode::Phong,
+//!     bump: None,
+//! };
+//! let mut fb = Framebuffer::new(64, 48).unwrap();
+//! let stats = render(&mut fb, &Camera::s1(), &[draw], &RenderOptions::default());
+//! assert_eq!(stats.triangles_drawn, 1);
+//! assert!(fb.pixel(32, 24).x > 0.5); // the centre is covered and lit
+//! assert_eq!(fb.pixel(0, 0), Vec3::ZERO); // the corner is background
+//! ```
+
+#![cfg_attr(test, allow(clippy::unwrap_used))]
+#![allow(
+    clippy::needless_range_loop,
+    reason = "attribute loops walk a prefix 0..n of several parallel fixed arrays"
+)]
+
+use std::fmt;
+use std::str::FromStr;
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use phosphor_lighting::{Effects, LightSet, Material};
+
+pub mod bands;
+pub mod bump;
+pub mod camera;
+pub mod clip;
+pub mod encode;
+pub mod framebuffer;
+mod render;
+pub mod scanline;
+pub mod setup;
+pub mod shade;
+
+#[cfg(test)]
+mod tests;
+
+pub use bump::{BumpMap, ProceduralBump};
+pub use camera::Camera;
+pub use encode::Encoding;
+pub use framebuffer::{Framebuffer, RasterError};
+pub use render::{coverage_counts, render, render_fill_only};
+pub use shade::fast_phong::FAST_PHONG_TOLERANCE;
+
+/// The shading modes (DESIGN.md table); names as used by the CLI and scene files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ShadingMode {
+    /// Once per triangle, face normal, at the centroid.
+    Flat,
+    /// At the vertices, intensities interpolated.
+    Gouraud,
+    /// Normals and positions interpolated, full model per pixel.
+    Phong,
+    /// Quadratic polynomials per triangle by forward differences; falls back to `phong`.
+    FastPhong,
+    /// f64, exact, per pixel: the ground truth.
+    Reference,
+}
+
+impl ShadingMode {
+    /// Every mode, cheapest first.
+    pub const ALL: [ShadingMode; 5] = [
+        ShadingMode::Flat,
+        ShadingMode::Gouraud,
+        ShadingMode::FastPhong,
+        ShadingMode::Phong,
+        ShadingMode::Reference,
+    ];
+
+    /// The mode's name: `flat`, `gouraud`, `phong`, `fast-phong`, `reference`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            ShadingMode::Flat => "flat",
+            ShadingMode::Gouraud => "gouraud",
+            ShadingMode::Phong => "phong",
+            ShadingMode::FastPhong => "fast-phong",
+            ShadingMode::Reference => "reference",
+        }
+    }
+}
+
+impl fmt::Display for ShadingMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An unknown shading-mode name.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown shading mode '{0}' (expected flat, gouraud, phong, fast-phong or reference)")]
+pub struct UnknownShadingMode(pub String);
+
+impl FromStr for ShadingMode {
+    type Err = UnknownShadingMode;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        ShadingMode::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| UnknownShadingMode(s.to_string()))
+    }
+}
+
+/// Borrowed mesh data for one draw (all per-vertex slices as long as `positions`).
+#[derive(Debug, Clone, Copy)]
+pub struct MeshView<'a> {
+    /// Object-space positions.
+    pub positions: &'a [Vec3],
+    /// Unit normals, one per position.
+    pub normals: &'a [Vec3],
+    /// Texture coordinates (needed for bump mapping).
+    pub uvs: Option<&'a [Vec2]>,
+    /// Tangents with handedness in `w` (needed for bump mapping).
+    pub tangents: Option<&'a [Vec4]>,
+    /// Triangles, counter-clockwise = front; out-of-range indices are skipped.
+    pub indices: &'a [[u32; 3]],
+}
+
+/// One object to draw.
+#[derive(Debug, Clone, Copy)]
+pub struct DrawItem<'a> {
+    /// The mesh.
+    pub mesh: MeshView<'a>,
+    /// Object to world.
+    pub model: Mat4,
+    /// Surface material.
+    pub material: &'a Material,
+    /// Lights, prepared once.
+    pub lights: &'a LightSet,
+    /// The terms to simulate (BUMP enables the bump map).
+    pub effects: Effects,
+    /// How to shade.
+    pub mode: ShadingMode,
+    /// Optional height field (with BUMP in `effects`, uvs and tangents in the mesh).
+    pub bump: Option<&'a BumpMap>,
+}
+
+/// Frame-wide options.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderOptions {
+    /// Worker threads; 0 = all cores. The picture does not depend on it.
+    pub threads: usize,
+    /// Perspective-correct attributes (default); false = screen-space linear (the seeds).
+    pub perspective_correct: bool,
+    /// Skip triangles facing away (clockwise on screen).
+    pub cull_backfaces: bool,
+    /// Clear colour.
+    pub background: Vec3,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            threads: 0,
+            perspective_correct: true,
+            cull_backfaces: false,
+            background: Vec3::ZERO,
+        }
+    }
+}
+
+/// What a frame did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct RenderStats {
+    /// Triangles submitted.
+    pub triangles_in: u64,
+    /// Triangles with at least one piece set up (not clipped away, culled or degenerate).
+    pub triangles_drawn: u64,
+    /// Pixels that passed the depth test and were shaded.
+    pub pixels_shaded: u64,
+    /// Fast-Phong triangle pieces drawn with `phong` because the fit was not good enough.
+    pub fallbacks: u64,
+    /// Draws whose bump map was ignored (flat/gouraud, or no uvs/tangents in the mesh).
+    pub bump_ignored: u64,
+}

@@ -1,0 +1,184 @@
+//! Homogeneous clipping (Sutherland-Hodgman in clip space, before the perspective divide).
+//!
+//! Always against the near plane `z >= -w` (OpenGL) and `w >= W_MIN`; against a guard band
+//! `|x|, |y| <= g w` only when a vertex leaves it, so that every screen coordinate stays far
+//! inside the fixed-point range ([`phosphor_math::fixed::MAX_FIXED_COORD`]). Attributes are
+//! linear in homogeneous space, so clipped vertices interpolate them with the same `t`.
+
+use glam::Vec4;
+
+/// Vertex attributes carried through clipping and interpolation (world position, normal,
+/// uv, tangent, or a Gouraud intensity; the shading mode says which).
+pub const MAX_ATTRS: usize = 12;
+
+/// Attribute storage of one vertex.
+pub type Attrs = [f32; MAX_ATTRS];
+
+/// Guard band half-width in pixels beyond the viewport edges.
+pub const GUARD_BAND_PX: f32 = 65536.0;
+
+/// Smallest `w` kept: a safety plane behind the near plane for arbitrary matrices.
+pub const W_MIN: f32 = 1e-7;
+
+/// A vertex in clip space with its attributes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClipVertex {
+    /// Homogeneous clip-space position.
+    pub pos: Vec4,
+    /// Attributes (first `n` used).
+    pub attrs: Attrs,
+}
+
+/// Most vertices a triangle clipped by 6 planes can have (3 + 6).
+pub const MAX_POLY: usize = 9;
+
+/// A convex polygon of clipped vertices, allocation-free.
+#[derive(Debug, Clone, Copy)]
+pub struct Polygon {
+    verts: [ClipVertex; MAX_POLY],
+    len: usize,
+}
+
+impl Polygon {
+    fn empty() -> Polygon {
+        Polygon {
+            verts: [ClipVertex {
+                pos: Vec4::ZERO,
+                attrs: [0.0; MAX_ATTRS],
+            }; MAX_POLY],
+            len: 0,
+        }
+    }
+
+    fn push(&mut self, v: ClipVertex) {
+        if self.len < MAX_POLY {
+            self.verts[self.len] = v;
+            self.len += 1;
+        }
+    }
+
+    /// The vertices, in the input winding order.
+    #[must_use]
+    pub fn vertices(&self) -> &[ClipVertex] {
+        &self.verts[..self.len]
+    }
+}
+
+/// Guard-band factors in NDC for a viewport of `width` x `height` pixels.
+#[must_use]
+pub fn guard_band(width: u32, height: u32) -> (f32, f32) {
+    (
+        1.0 + 2.0 * GUARD_BAND_PX / width.max(1) as f32,
+        1.0 + 2.0 * GUARD_BAND_PX / height.max(1) as f32,
+    )
+}
+
+/// Clips triangle `tri` (attributes `0..n`) against the near plane, `w >= W_MIN` and the guard
+/// band `(gx, gy)`. Returns an empty polygon when nothing is left.
+#[must_use]
+pub fn clip_triangle(tri: &[ClipVertex; 3], n: usize, guard: (f32, f32)) -> Polygon {
+    let (gx, gy) = guard;
+    let planes = [
+        Vec4::new(0.0, 0.0, 1.0, 1.0), // near: z + w >= 0
+        Vec4::new(0.0, 0.0, 0.0, 1.0), // w >= W_MIN
+        Vec4::new(-1.0, 0.0, 0.0, gx), // x <= gx w
+        Vec4::new(1.0, 0.0, 0.0, gx),  // x >= -gx w
+        Vec4::new(0.0, -1.0, 0.0, gy), // y <= gy w
+        Vec4::new(0.0, 1.0, 0.0, gy),  // y >= -gy w
+    ];
+    let offset = |i: usize| if i == 1 { -W_MIN } else { 0.0 };
+    let mut poly = Polygon::empty();
+    for v in tri {
+        poly.push(*v);
+    }
+    let all_inside = tri.iter().all(|v| {
+        planes
+            .iter()
+            .enumerate()
+            .all(|(i, p)| p.dot(v.pos) + offset(i) >= 0.0)
+    });
+    if all_inside {
+        return poly;
+    }
+    for (i, plane) in planes.iter().enumerate() {
+        let dist = |v: &ClipVertex| plane.dot(v.pos) + offset(i);
+        if poly.vertices().iter().all(|v| dist(v) >= 0.0) {
+            continue;
+        }
+        let mut out = Polygon::empty();
+        let verts = poly.vertices();
+        for (k, a) in verts.iter().enumerate() {
+            let b = &verts[(k + 1) % verts.len()];
+            let (da, db) = (dist(a), dist(b));
+            if da >= 0.0 {
+                out.push(*a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                let t = da / (da - db);
+                let mut v = ClipVertex {
+                    pos: a.pos + (b.pos - a.pos) * t,
+                    attrs: a.attrs,
+                };
+                for j in 0..n {
+                    v.attrs[j] = a.attrs[j] + (b.attrs[j] - a.attrs[j]) * t;
+                }
+                out.push(v);
+            }
+        }
+        poly = out;
+        if poly.len < 3 {
+            return Polygon::empty();
+        }
+    }
+    poly
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn v(x: f32, y: f32, z: f32, w: f32) -> ClipVertex {
+        ClipVertex {
+            pos: Vec4::new(x, y, z, w),
+            attrs: [x; MAX_ATTRS],
+        }
+    }
+
+    #[test]
+    fn triangle_behind_the_near_plane_vanishes_and_crossing_one_becomes_a_quad() {
+        let g = guard_band(100, 100);
+        let behind = [
+            v(0.0, 0.0, -2.0, 1.0),
+            v(1.0, 0.0, -2.0, 1.0),
+            v(0.0, 1.0, -3.0, 1.0),
+        ];
+        assert_eq!(clip_triangle(&behind, 1, g).vertices().len(), 0);
+        let crossing = [
+            v(0.0, 0.0, -2.0, 1.0),
+            v(1.0, 0.0, 0.0, 1.0),
+            v(0.0, 1.0, 0.0, 1.0),
+        ];
+        let p = clip_triangle(&crossing, 1, g);
+        assert_eq!(p.vertices().len(), 4);
+        for c in p.vertices() {
+            assert!(c.pos.z + c.pos.w >= -1e-6);
+            assert_eq!(c.attrs[0], c.pos.x, "attributes follow the position");
+        }
+    }
+
+    #[test]
+    fn guard_band_keeps_screen_coordinates_in_fixed_point_range() {
+        let g = guard_band(64, 64);
+        let huge = [
+            v(-1e9, -1e9, 0.0, 1.0),
+            v(1e9, -1e9, 0.0, 1.0),
+            v(0.0, 1e9, 0.0, 1.0),
+        ];
+        let p = clip_triangle(&huge, 0, g);
+        assert!(p.vertices().len() >= 3);
+        for c in p.vertices() {
+            let sx = (c.pos.x / c.pos.w + 1.0) * 32.0;
+            assert!(sx.abs() < phosphor_math::fixed::MAX_FIXED_COORD);
+        }
+    }
+}

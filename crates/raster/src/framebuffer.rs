@@ -1,0 +1,252 @@
+//! The framebuffer: linear f32 RGB clamped to `[0, 1]` plus a depth buffer, and its encodings.
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+use crate::encode::{Encoding, encode};
+
+/// Errors of the raster crate; each names the file or the value at fault.
+#[derive(Debug, thiserror::Error)]
+pub enum RasterError {
+    /// A framebuffer of zero (or absurd) size was asked for.
+    #[error("framebuffer size {width}x{height}: {what}")]
+    BadSize {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// Why it was refused.
+        what: &'static str,
+    },
+    /// Writing or reading an image file failed.
+    #[error("{}: {what}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        what: String,
+    },
+    /// A bump-map parameter is unusable.
+    #[error("bump map: {0}")]
+    BadBump(String),
+}
+
+/// Largest accepted side: keeps every screen coordinate far inside the fixed-point range.
+pub const MAX_SIDE: u32 = 1 << 15;
+
+/// Depth of an empty pixel: the far plane, which is not drawn (the test is `depth < stored`).
+pub const FAR_DEPTH: f32 = 1.0;
+
+/// Linear RGB intensities (row 0 at the top) and depth in `[0, 1]` (0 = near plane).
+#[derive(Debug, Clone)]
+pub struct Framebuffer {
+    width: u32,
+    height: u32,
+    pub(crate) color: Vec<Vec3>,
+    pub(crate) depth: Vec<f32>,
+}
+
+/// Clamps to `[0, 1]`, NaN to 0: the one gate every colour passes on its way to a pixel.
+#[inline]
+#[must_use]
+#[allow(clippy::manual_clamp, reason = "max/min map NaN to 0, clamp keeps NaN")]
+pub fn clamp_color(c: Vec3) -> Vec3 {
+    Vec3::new(
+        c.x.max(0.0).min(1.0),
+        c.y.max(0.0).min(1.0),
+        c.z.max(0.0).min(1.0),
+    )
+}
+
+impl Framebuffer {
+    /// A black framebuffer with every depth at the far plane. Zero or above [`MAX_SIDE`] is an error.
+    pub fn new(width: u32, height: u32) -> Result<Framebuffer, RasterError> {
+        let bad = |what| {
+            Err(RasterError::BadSize {
+                width,
+                height,
+                what,
+            })
+        };
+        if width == 0 || height == 0 {
+            return bad("zero size");
+        }
+        if width > MAX_SIDE || height > MAX_SIDE {
+            return bad("side above 32768");
+        }
+        let n = width as usize * height as usize;
+        Ok(Framebuffer {
+            width,
+            height,
+            color: vec![Vec3::ZERO; n],
+            depth: vec![FAR_DEPTH; n],
+        })
+    }
+
+    /// Width in pixels.
+    #[must_use]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    #[must_use]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Fills the colour with `background` (clamped) and resets depth to the far plane.
+    pub fn clear(&mut self, background: Vec3) {
+        let bg = clamp_color(background);
+        self.color.fill(bg);
+        self.depth.fill(FAR_DEPTH);
+    }
+
+    /// The colour at `(x, y)`, row 0 at the top; black outside the image.
+    #[must_use]
+    pub fn pixel(&self, x: u32, y: u32) -> Vec3 {
+        if x >= self.width || y >= self.height {
+            return Vec3::ZERO;
+        }
+        self.color[y as usize * self.width as usize + x as usize]
+    }
+
+    /// The depth at `(x, y)` in `[0, 1]`; [`FAR_DEPTH`] where nothing was drawn or outside.
+    #[must_use]
+    pub fn depth_at(&self, x: u32, y: u32) -> f32 {
+        if x >= self.width || y >= self.height {
+            return FAR_DEPTH;
+        }
+        self.depth[y as usize * self.width as usize + x as usize]
+    }
+
+    /// All colours, row-major from the top row, each channel in `[0, 1]`.
+    #[must_use]
+    pub fn color(&self) -> &[Vec3] {
+        &self.color
+    }
+
+    /// All depths, row-major, in `[0, 1]`.
+    #[must_use]
+    pub fn depth(&self) -> &[f32] {
+        &self.depth
+    }
+
+    /// Writes softbuffer's `0x00RRGGBB`, sRGB-encoded, into `out` (as many pixels as both hold).
+    pub fn write_0rgb(&self, out: &mut [u32]) {
+        for (dst, c) in out.iter_mut().zip(&self.color) {
+            let r = encode(c.x, Encoding::Srgb) as u32;
+            let g = encode(c.y, Encoding::Srgb) as u32;
+            let b = encode(c.z, Encoding::Srgb) as u32;
+            *dst = (r << 16) | (g << 8) | b;
+        }
+    }
+
+    /// Interleaved 8-bit RGB, row-major from the top, through the encoding table.
+    #[must_use]
+    pub fn to_rgb8(&self, encoding: Encoding) -> Vec<u8> {
+        let mut out = Vec::with_capacity(self.color.len() * 3);
+        for c in &self.color {
+            out.extend([
+                encode(c.x, encoding),
+                encode(c.y, encoding),
+                encode(c.z, encoding),
+            ]);
+        }
+        out
+    }
+
+    /// Saves an 8-bit PNG atomically (temporary file in the same folder, then rename).
+    pub fn save_png(&self, path: &Path, encoding: Encoding) -> Result<(), RasterError> {
+        let img = image::RgbImage::from_raw(self.width, self.height, self.to_rgb8(encoding));
+        let img = img.ok_or_else(|| io_error(path, "image buffer size mismatch".into()))?;
+        save_atomic(path, |tmp| {
+            img.save_with_format(tmp, image::ImageFormat::Png)
+                .map_err(|e| e.to_string())
+        })
+    }
+
+    /// Saves the linear f32 intensities as OpenEXR, atomically.
+    pub fn save_exr(&self, path: &Path) -> Result<(), RasterError> {
+        let data: Vec<f32> = self.color.iter().flat_map(|c| c.to_array()).collect();
+        let img = image::Rgb32FImage::from_raw(self.width, self.height, data);
+        let img = img.ok_or_else(|| io_error(path, "image buffer size mismatch".into()))?;
+        save_atomic(path, |tmp| {
+            image::DynamicImage::ImageRgb32F(img)
+                .save_with_format(tmp, image::ImageFormat::OpenExr)
+                .map_err(|e| e.to_string())
+        })
+    }
+}
+
+fn io_error(path: &Path, what: String) -> RasterError {
+    RasterError::Io {
+        path: path.to_path_buf(),
+        what,
+    }
+}
+
+/// Writes through `write` to a temporary sibling of `path`, then renames it over `path`, so a
+/// failure never leaves a truncated or replaced file.
+fn save_atomic(
+    path: &Path,
+    write: impl FnOnce(&Path) -> Result<(), String>,
+) -> Result<(), RasterError> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| io_error(path, "not a file name".into()))?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(name);
+    tmp_name.push(format!(".tmp-{}", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    if let Err(what) = write(&tmp) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(io_error(path, what));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io_error(path, e.to_string())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn zero_size_is_an_error_not_a_panic() {
+        assert!(Framebuffer::new(0, 4).is_err());
+        assert!(Framebuffer::new(4, 0).is_err());
+        assert!(Framebuffer::new(1 << 20, 1).is_err());
+    }
+
+    #[test]
+    fn clear_clamps_and_encodings_agree() {
+        let mut fb = Framebuffer::new(2, 1).unwrap();
+        fb.clear(Vec3::new(2.0, f32::NAN, 0.5));
+        assert_eq!(fb.pixel(1, 0), Vec3::new(1.0, 0.0, 0.5));
+        let mut out = [0u32; 2];
+        fb.write_0rgb(&mut out);
+        assert_eq!(out[0] >> 8, 0xff00);
+        assert_eq!(fb.to_rgb8(Encoding::Linear)[..3], [255, 0, 128]);
+    }
+
+    #[test]
+    fn save_errors_name_the_file_and_leave_nothing() {
+        let fb = Framebuffer::new(2, 2).unwrap();
+        let path = Path::new("/nonexistent-dir-phosphor/x.png");
+        let err = fb.save_png(path, Encoding::Srgb).unwrap_err().to_string();
+        assert!(err.contains("/nonexistent-dir-phosphor/x.png"), "{err}");
+        let dir = std::env::temp_dir().join(format!("phosphor-fb-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        fb.save_png(&dir.join("a.png"), Encoding::Srgb).unwrap();
+        fb.save_exr(&dir.join("a.exr")).unwrap();
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert_eq!(names.len(), 2, "{names:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

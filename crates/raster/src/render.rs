@@ -1,0 +1,237 @@
+//! The pipeline of one frame: vertex stage (model, view, projection), clipping, set-up, then
+//! the banded traversal, draw by draw in submission order.
+
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use phosphor_lighting::Effects;
+
+use crate::bands::{Prepared, draw_bands};
+use crate::clip::{ClipVertex, clip_triangle, guard_band};
+use crate::framebuffer::{Framebuffer, RasterError};
+use crate::setup::{setup, to_screen};
+use crate::shade::fast_phong::FastPhong;
+use crate::shade::flat::{FillOnly, Flat};
+use crate::shade::gouraud::Gouraud;
+use crate::shade::phong::Phong;
+use crate::shade::reference::Reference;
+use crate::shade::{Lit, Mode, VertexIn, effective_material};
+use crate::{Camera, DrawItem, RenderOptions, RenderStats, ShadingMode};
+
+/// Renders `draws` seen by `camera` into `fb` (cleared to `opts.background` first).
+///
+/// Every draw is shaded with its own mode and effect set; bad input (indices out of range,
+/// non-finite positions, zero-area triangles) is skipped, never a panic.
+pub fn render(
+    fb: &mut Framebuffer,
+    camera: &Camera,
+    draws: &[DrawItem],
+    opts: &RenderOptions,
+) -> RenderStats {
+    fb.clear(opts.background);
+    let mut stats = RenderStats::default();
+    let vp = camera.view_proj(fb.width() as f32 / fb.height() as f32);
+    for d in draws {
+        shade_draw(fb, vp, camera.eye, d, opts, &mut stats);
+    }
+    stats
+}
+
+/// Coverage and depth only, every draw in one constant colour (white): the fill-only speed
+/// bound. Modes, lights and effects are ignored.
+pub fn render_fill_only(
+    fb: &mut Framebuffer,
+    camera: &Camera,
+    draws: &[DrawItem],
+    opts: &RenderOptions,
+) -> RenderStats {
+    fb.clear(opts.background);
+    let mut stats = RenderStats::default();
+    let vp = camera.view_proj(fb.width() as f32 / fb.height() as f32);
+    let mode = FillOnly { color: Vec3::ONE };
+    for d in draws {
+        run(fb, vp, d, &mode, opts, &mut stats, false);
+    }
+    stats
+}
+
+/// Test hook: how many times each pixel of a `width` x `height` image is covered by `draws`,
+/// with no depth test (row-major). With a correct fill rule a closed, non-overlapping
+/// triangulation covers every pixel inside its silhouette exactly once per layer.
+pub fn coverage_counts(
+    width: u32,
+    height: u32,
+    camera: &Camera,
+    draws: &[DrawItem],
+    opts: &RenderOptions,
+) -> Result<Vec<u32>, RasterError> {
+    let mut fb = Framebuffer::new(width, height)?;
+    let vp = camera.view_proj(width as f32 / height as f32);
+    let mode = FillOnly { color: Vec3::ONE };
+    let mut stats = RenderStats::default();
+    for d in draws {
+        run(&mut fb, vp, d, &mode, opts, &mut stats, true);
+    }
+    Ok(fb.color.iter().map(|c| c.x as u32).collect())
+}
+
+fn shade_draw(
+    fb: &mut Framebuffer,
+    vp: Mat4,
+    eye: Vec3,
+    d: &DrawItem,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+) {
+    let n = d.mesh.positions.len();
+    let has_frame =
+        d.mesh.uvs.is_some_and(|u| u.len() == n) && d.mesh.tangents.is_some_and(|t| t.len() == n);
+    let wants_bump = d.bump.is_some() && d.effects.contains(Effects::BUMP);
+    let per_pixel = matches!(
+        d.mode,
+        ShadingMode::Phong | ShadingMode::FastPhong | ShadingMode::Reference
+    );
+    let bump = if wants_bump && has_frame && per_pixel {
+        d.bump
+    } else {
+        None
+    };
+    if wants_bump && bump.is_none() {
+        stats.bump_ignored += 1;
+    }
+    let lit = Lit {
+        set: d.lights,
+        mat: effective_material(d.material, d.effects),
+        eye,
+    };
+    match (d.mode, bump) {
+        (ShadingMode::Flat, _) => {
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Flat::<FX> { lit }, opts, stats, false))
+        }
+        (ShadingMode::Gouraud, _) => {
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Gouraud::<FX> { lit }, opts, stats, false))
+        }
+        (ShadingMode::Phong | ShadingMode::FastPhong, Some(map)) => {
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Phong::<FX, true> { lit, bump: Some(map) }, opts, stats, false))
+        }
+        (ShadingMode::Phong, None) => {
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Phong::<FX, false> { lit, bump: None }, opts, stats, false))
+        }
+        (ShadingMode::FastPhong, None) => {
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &FastPhong::<FX> { lit }, opts, stats, false))
+        }
+        (ShadingMode::Reference, _) => {
+            let mut mat = lit.mat;
+            if !d.effects.contains(Effects::SPECULAR) {
+                mat.ks = Vec3::ZERO;
+            }
+            if !d.effects.contains(Effects::FRESNEL) {
+                mat.fresnel = phosphor_lighting::Fresnel::None;
+            }
+            let mode = Reference {
+                set: d.lights,
+                mat,
+                eye: eye.as_dvec3(),
+                bump,
+            };
+            run(fb, vp, d, &mode, opts, stats, false);
+        }
+    }
+}
+
+/// The vertex stage: world position, normal (inverse-transpose), uv and tangent per vertex.
+fn vertex_stage(d: &DrawItem, vp: Mat4) -> Vec<(Vec4, VertexIn)> {
+    let m3 = Mat3::from_mat4(d.model);
+    let normal_matrix = {
+        let nm = m3.inverse().transpose();
+        if nm.is_finite() { nm } else { m3 }
+    };
+    let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
+    let mesh = &d.mesh;
+    (0..mesh.positions.len())
+        .map(|i| {
+            let world = d.model.transform_point3(mesh.positions[i]);
+            let normal = mesh
+                .normals
+                .get(i)
+                .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
+            let uv = mesh
+                .uvs
+                .and_then(|u| u.get(i).copied())
+                .unwrap_or(Vec2::ZERO);
+            let tangent = mesh
+                .tangents
+                .and_then(|t| t.get(i).copied())
+                .map_or(Vec4::ZERO, |t| {
+                    (m3 * t.truncate()).normalize_or_zero().extend(t.w * flip)
+                });
+            (
+                vp * world.extend(1.0),
+                VertexIn {
+                    world,
+                    normal,
+                    uv,
+                    tangent,
+                },
+            )
+        })
+        .collect()
+}
+
+/// Runs mode `M` over one draw: vertex stage, clip, set-up, bands.
+fn run<M: Mode>(
+    fb: &mut Framebuffer,
+    vp: Mat4,
+    d: &DrawItem,
+    mode: &M,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+    count: bool,
+) {
+    let (w, h) = (fb.width(), fb.height());
+    let verts = vertex_stage(d, vp);
+    let attrs: Vec<_> = verts.iter().map(|(_, v)| mode.vertex(v)).collect();
+    let guard = guard_band(w, h);
+    let mut prepared = Vec::with_capacity(d.mesh.indices.len());
+    for idx in d.mesh.indices {
+        stats.triangles_in += 1;
+        if idx.iter().any(|&i| i as usize >= verts.len()) {
+            continue;
+        }
+        let ids = *idx;
+        let src = ids.map(|i| verts[i as usize].1);
+        let tri = ids.map(|i| ClipVertex {
+            pos: verts[i as usize].0,
+            attrs: attrs[i as usize],
+        });
+        if !tri.iter().all(|v| v.pos.is_finite()) {
+            continue;
+        }
+        let poly = clip_triangle(&tri, M::ATTRS, guard);
+        let pv = poly.vertices();
+        let mut screen = [None; crate::clip::MAX_POLY];
+        for (s, v) in screen.iter_mut().zip(pv) {
+            *s = to_screen(v, w, h, M::ATTRS, opts.perspective_correct);
+        }
+        let mut drawn = false;
+        for k in 1..pv.len().saturating_sub(1) {
+            let (Some(a), Some(b), Some(c)) = (screen[0], screen[k], screen[k + 1]) else {
+                continue;
+            };
+            let Some(geom) = setup(
+                [a, b, c],
+                M::ATTRS,
+                opts.perspective_correct,
+                opts.cull_backfaces,
+            ) else {
+                continue;
+            };
+            let tri = mode.triangle(&src, &geom);
+            if M::is_fallback(&tri) {
+                stats.fallbacks += 1;
+            }
+            prepared.push(Prepared { geom, tri });
+            drawn = true;
+        }
+        stats.triangles_drawn += u64::from(drawn);
+    }
+    stats.pixels_shaded += draw_bands(fb, mode, &prepared, opts.threads, count);
+}

@@ -1,0 +1,249 @@
+//! `fast-phong`: per triangle, the diffuse and the specular sums each become a quadratic
+//! polynomial in screen x and y, evaluated along the span by forward differences (two adds
+//! per channel per polynomial). Bishop & Weimer 1986 expand the model in a Taylor series;
+//! here, as in Barrera, Hast & Bengtsson 2006 ("Fast near Phong-quality software shading"),
+//! the quadratic interpolates the exact terms (`shade_split`, perspective-correct point and
+//! normal) at the three vertices and the three edge midpoints. The fit is then checked
+//! against exact shading at the centroid and at the centroids of the three corner
+//! sub-triangles; when the largest error of the clamped total exceeds
+//! [`FAST_PHONG_TOLERANCE`], the triangle falls back to `phong` (counted in
+//! `RenderStats::fallbacks`), so a large triangle with spread normals never shows the
+//! polynomial's blow-up.
+
+use glam::{DVec2, Vec3};
+use phosphor_lighting::{ShadeTerms, shade_split};
+
+use super::phong::Phong;
+use super::{Lit, Mode, VertexIn, surface_attrs};
+use crate::clip::Attrs;
+use crate::framebuffer::clamp_color;
+use crate::scanline::{BandTarget, Kernel, traverse};
+use crate::setup::TriGeom;
+
+/// Largest error (per channel, on the `[0, 1]` intensity) the fit may show at the check
+/// points before the triangle falls back to `phong`: one 8-bit code.
+pub const FAST_PHONG_TOLERANCE: f32 = 1.0 / 255.0;
+
+/// The fast Phong mode for effect set `FX`.
+#[derive(Debug, Clone, Copy)]
+pub struct FastPhong<'a, const FX: u32> {
+    /// Lights, material, viewer.
+    pub lit: Lit<'a>,
+}
+
+/// A quadratic in the screen barycentrics: values at the vertices and the edge midpoints
+/// (the P2 Lagrange form), one per term.
+#[derive(Debug, Clone, Copy)]
+pub struct Quadratic {
+    /// Values at vertices 0, 1, 2.
+    vertex: [Vec3; 3],
+    /// Values at the midpoints of edges 01, 12, 20.
+    mid: [Vec3; 3],
+}
+
+impl Quadratic {
+    #[inline]
+    fn eval(&self, l: [f64; 3]) -> Vec3 {
+        let mut acc = glam::DVec3::ZERO;
+        for i in 0..3 {
+            acc += self.vertex[i].as_dvec3() * (l[i] * (2.0 * l[i] - 1.0));
+        }
+        acc += self.mid[0].as_dvec3() * (4.0 * l[0] * l[1]);
+        acc += self.mid[1].as_dvec3() * (4.0 * l[1] * l[2]);
+        acc += self.mid[2].as_dvec3() * (4.0 * l[2] * l[0]);
+        acc.as_vec3()
+    }
+}
+
+/// A fitted triangle: constant ambient, diffuse and specular quadratics, and the affine
+/// screen barycentrics `l_i = c_i + gx_i x + gy_i y`.
+#[derive(Debug, Clone, Copy)]
+pub struct PolyTri {
+    ambient: Vec3,
+    diffuse: Quadratic,
+    specular: Quadratic,
+    bary: [[f64; 3]; 3],
+}
+
+impl PolyTri {
+    fn bary_at(&self, x: f64, y: f64) -> [f64; 3] {
+        self.bary.map(|[c, gx, gy]| c + gx * x + gy * y)
+    }
+
+    fn total(&self, l: [f64; 3]) -> Vec3 {
+        self.ambient + self.diffuse.eval(l).max(Vec3::ZERO) + self.specular.eval(l).max(Vec3::ZERO)
+    }
+}
+
+/// Fast Phong's per-triangle choice (stored inline: triangles are set up once into one Vec).
+#[derive(Debug, Clone, Copy)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "boxing would allocate per triangle"
+)]
+pub enum FastTri {
+    /// The polynomial fits: forward differences.
+    Poly(PolyTri),
+    /// It does not: exact per-pixel Phong for this triangle.
+    Phong,
+}
+
+/// Forward-difference state of one span: value, first and second difference per polynomial.
+#[derive(Debug, Clone, Copy)]
+pub struct FastSpan {
+    ambient: Vec3,
+    d: [Vec3; 3],
+    s: [Vec3; 3],
+}
+
+/// The per-pixel kernel of a fitted triangle.
+#[derive(Debug, Clone, Copy)]
+pub struct PolyKernel;
+
+impl Kernel for PolyKernel {
+    const ATTRS: usize = 0;
+    type Tri = PolyTri;
+    type Span = FastSpan;
+    fn span(&self, t: &PolyTri, x: f32, y: f32) -> FastSpan {
+        let (x, y) = (x as f64, y as f64);
+        let l = [
+            t.bary_at(x, y),
+            t.bary_at(x + 1.0, y),
+            t.bary_at(x + 2.0, y),
+        ];
+        let diffs = |q: &Quadratic| {
+            let (a, b, c) = (q.eval(l[0]), q.eval(l[1]), q.eval(l[2]));
+            [a, b - a, c - 2.0 * b + a]
+        };
+        FastSpan {
+            ambient: t.ambient,
+            d: diffs(&t.diffuse),
+            s: diffs(&t.specular),
+        }
+    }
+    #[inline]
+    fn shade(&self, _: &PolyTri, s: &FastSpan, _: &Attrs, _: u32, _: u32) -> Vec3 {
+        // Each term clamped on its own: a specular lobe's polynomial may dip below zero.
+        s.ambient + s.d[0].max(Vec3::ZERO) + s.s[0].max(Vec3::ZERO)
+    }
+    #[inline]
+    fn step(s: &mut FastSpan) {
+        s.d[0] += s.d[1];
+        s.d[1] += s.d[2];
+        s.s[0] += s.s[1];
+        s.s[1] += s.s[2];
+    }
+}
+
+impl<const FX: u32> FastPhong<'_, FX> {
+    /// Exact terms at screen barycentrics `l` (perspective-correct point and normal).
+    fn exact(&self, geom: &TriGeom, l: [f64; 3]) -> ShadeTerms {
+        let q: [f64; 3] = std::array::from_fn(|i| {
+            if geom.perspective {
+                l[i] * geom.v[i].inv_w
+            } else {
+                l[i]
+            }
+        });
+        let s = q[0] + q[1] + q[2];
+        let w = if s.abs() > 1e-300 {
+            q.map(|x| x / s)
+        } else {
+            l
+        };
+        let mut p = glam::DVec3::ZERO;
+        let mut n = glam::DVec3::ZERO;
+        for (i, v) in geom.v.iter().enumerate() {
+            // Stored attributes are divided by w when perspective-correct: undo.
+            let scale = w[i] * if geom.perspective { 1.0 / v.inv_w } else { 1.0 };
+            p += glam::DVec3::new(v.attrs[0] as f64, v.attrs[1] as f64, v.attrs[2] as f64) * scale;
+            n += glam::DVec3::new(v.attrs[3] as f64, v.attrs[4] as f64, v.attrs[5] as f64) * scale;
+        }
+        shade_split::<FX>(
+            self.lit.set,
+            &self.lit.mat,
+            p.as_vec3(),
+            n.as_vec3(),
+            self.lit.eye,
+        )
+    }
+
+    /// Fits the quadratics, or `None` when the check points show more than the tolerance.
+    fn fit(&self, geom: &TriGeom) -> Option<PolyTri> {
+        let third = 1.0 / 3.0;
+        let nodes = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.5, 0.5, 0.0],
+            [0.0, 0.5, 0.5],
+            [0.5, 0.0, 0.5],
+        ];
+        let t = nodes.map(|l| self.exact(geom, l));
+        let quad = |f: fn(&ShadeTerms) -> Vec3| Quadratic {
+            vertex: [f(&t[0]), f(&t[1]), f(&t[2])],
+            mid: [f(&t[3]), f(&t[4]), f(&t[5])],
+        };
+        let ambient = t[0].ambient;
+        let [a, b, c] = geom.v.map(|v| DVec2::new(v.x, v.y));
+        let area = (b - a).perp_dot(c - a);
+        if area == 0.0 || !area.is_finite() {
+            return None;
+        }
+        // l_i(x, y) affine: l0 = area(p, b, c) / area, etc.
+        let affine = |p: DVec2, q: DVec2| {
+            // area2(x, p, q) = (p - x) x (q - x) = p x q - x (q.y - p.y) + y (q.x - p.x)
+            [p.perp_dot(q) / area, (p.y - q.y) / area, (q.x - p.x) / area]
+        };
+        let poly = PolyTri {
+            ambient,
+            diffuse: quad(|t| t.diffuse),
+            specular: quad(|t| t.specular),
+            bary: [affine(b, c), affine(c, a), affine(a, b)],
+        };
+        let checks = [
+            [third, third, third],
+            [2.0 * third, 1.0 / 6.0, 1.0 / 6.0],
+            [1.0 / 6.0, 2.0 * third, 1.0 / 6.0],
+            [1.0 / 6.0, 1.0 / 6.0, 2.0 * third],
+        ];
+        for l in checks {
+            let err = (clamp_color(poly.total(l)) - clamp_color(self.exact(geom, l).total())).abs();
+            let worst = err.max_element();
+            if worst.is_nan() || worst > FAST_PHONG_TOLERANCE {
+                return None;
+            }
+        }
+        Some(poly)
+    }
+
+    fn phong(&self) -> Phong<'_, FX, false> {
+        Phong {
+            lit: self.lit,
+            bump: None,
+        }
+    }
+}
+
+impl<const FX: u32> Mode for FastPhong<'_, FX> {
+    const ATTRS: usize = 6;
+    type Tri = FastTri;
+    fn vertex(&self, v: &VertexIn) -> Attrs {
+        surface_attrs(v)
+    }
+    fn triangle(&self, _: &[VertexIn; 3], geom: &TriGeom) -> FastTri {
+        match self.fit(geom) {
+            Some(p) => FastTri::Poly(p),
+            None => FastTri::Phong,
+        }
+    }
+    fn draw(&self, geom: &TriGeom, tri: &FastTri, target: &mut BandTarget) -> u64 {
+        match tri {
+            FastTri::Poly(p) => traverse(geom, &PolyKernel, p, target),
+            FastTri::Phong => traverse(geom, &self.phong(), &(), target),
+        }
+    }
+    fn is_fallback(tri: &FastTri) -> bool {
+        matches!(tri, FastTri::Phong)
+    }
+}

@@ -1,0 +1,89 @@
+//! `flat`: the model once per triangle, with the face normal, at the centroid (seeds:
+//! constant-intensity shading, "calculate the intensity for each facet, say, at the centre").
+
+use glam::Vec3;
+use phosphor_lighting::shade;
+use phosphor_math::safe_normalize;
+
+use super::{Lit, Mode, VertexIn};
+use crate::clip::{Attrs, MAX_ATTRS};
+use crate::scanline::{BandTarget, Kernel, traverse};
+use crate::setup::TriGeom;
+
+/// The flat mode for effect set `FX`.
+#[derive(Debug, Clone, Copy)]
+pub struct Flat<'a, const FX: u32> {
+    /// Lights, material, viewer.
+    pub lit: Lit<'a>,
+}
+
+impl<const FX: u32> Kernel for Flat<'_, FX> {
+    const ATTRS: usize = 0;
+    type Tri = Vec3;
+    type Span = ();
+    #[inline]
+    fn span(&self, _: &Vec3, _: f32, _: f32) {}
+    #[inline]
+    fn shade(&self, tri: &Vec3, _: &(), _: &Attrs, _: u32, _: u32) -> Vec3 {
+        *tri
+    }
+    #[inline]
+    fn step(_: &mut ()) {}
+}
+
+impl<const FX: u32> Mode for Flat<'_, FX> {
+    const ATTRS: usize = 0;
+    type Tri = Vec3;
+    fn vertex(&self, _: &VertexIn) -> Attrs {
+        [0.0; MAX_ATTRS]
+    }
+    fn triangle(&self, src: &[VertexIn; 3], _: &TriGeom) -> Vec3 {
+        let [a, b, c] = src.map(|v| v.world);
+        // Counter-clockwise is front, so the cross product points outwards.
+        let n = safe_normalize((b - a).cross(c - a), Vec3::ZERO);
+        let centroid = (a + b + c) / 3.0;
+        shade::<FX>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
+    }
+    fn draw(&self, geom: &TriGeom, tri: &Vec3, target: &mut BandTarget) -> u64 {
+        traverse(geom, self, tri, target)
+    }
+}
+
+/// Coverage and depth only, one constant colour (the fill-only speed bound).
+#[derive(Debug, Clone, Copy)]
+pub struct FillOnly {
+    /// The colour written.
+    pub color: Vec3,
+}
+
+impl Mode for FillOnly {
+    const ATTRS: usize = 0;
+    type Tri = Vec3;
+    fn vertex(&self, _: &VertexIn) -> Attrs {
+        [0.0; MAX_ATTRS]
+    }
+    fn triangle(&self, _: &[VertexIn; 3], _: &TriGeom) -> Vec3 {
+        self.color
+    }
+    fn draw(&self, geom: &TriGeom, tri: &Vec3, target: &mut BandTarget) -> u64 {
+        traverse(geom, &ConstKernel, tri, target)
+    }
+}
+
+/// The kernel writing the per-triangle colour as is.
+#[derive(Debug, Clone, Copy)]
+pub struct ConstKernel;
+
+impl Kernel for ConstKernel {
+    const ATTRS: usize = 0;
+    type Tri = Vec3;
+    type Span = ();
+    #[inline]
+    fn span(&self, _: &Vec3, _: f32, _: f32) {}
+    #[inline]
+    fn shade(&self, tri: &Vec3, _: &(), _: &Attrs, _: u32, _: u32) -> Vec3 {
+        *tri
+    }
+    #[inline]
+    fn step(_: &mut ()) {}
+}

@@ -1,0 +1,47 @@
+//! `gouraud`: the model at the vertices (their averaged normals), intensities interpolated
+//! (seeds: `I4 = (y4 - y2)/(y1 - y2) I1 + (y1 - y4)/(y1 - y2) I2`, then `Ip` along the span).
+
+use glam::Vec3;
+use phosphor_lighting::shade;
+
+use super::{Lit, Mode, VertexIn, get3, put3};
+use crate::clip::{Attrs, MAX_ATTRS};
+use crate::scanline::{BandTarget, Kernel, traverse};
+use crate::setup::TriGeom;
+
+/// The Gouraud mode for effect set `FX`.
+#[derive(Debug, Clone, Copy)]
+pub struct Gouraud<'a, const FX: u32> {
+    /// Lights, material, viewer.
+    pub lit: Lit<'a>,
+}
+
+impl<const FX: u32> Kernel for Gouraud<'_, FX> {
+    const ATTRS: usize = 3;
+    type Tri = ();
+    type Span = ();
+    #[inline]
+    fn span(&self, _: &(), _: f32, _: f32) {}
+    #[inline]
+    fn shade(&self, _: &(), _: &(), attrs: &Attrs, _: u32, _: u32) -> Vec3 {
+        get3(attrs, 0)
+    }
+    #[inline]
+    fn step(_: &mut ()) {}
+}
+
+impl<const FX: u32> Mode for Gouraud<'_, FX> {
+    const ATTRS: usize = 3;
+    type Tri = ();
+    fn vertex(&self, v: &VertexIn) -> Attrs {
+        let mut a = [0.0; MAX_ATTRS];
+        // Clamped at the vertex: the display range, and what is interpolated is what is seen.
+        let i = shade::<FX>(self.lit.set, &self.lit.mat, v.world, v.normal, self.lit.eye);
+        put3(&mut a, 0, i.min(Vec3::ONE));
+        a
+    }
+    fn triangle(&self, _: &[VertexIn; 3], _: &TriGeom) {}
+    fn draw(&self, geom: &TriGeom, tri: &(), target: &mut BandTarget) -> u64 {
+        traverse(geom, self, tri, target)
+    }
+}

@@ -1,0 +1,165 @@
+//! The shading modes. Each is a type implementing [`Mode`] (per vertex, per triangle) and a
+//! [`Kernel`](crate::scanline::Kernel) (per pixel), monomorphized per effect set.
+//!
+//! # Effect specialization
+//!
+//! A draw's runtime [`Effects`] are mapped to one of six `const FX: u32` instantiations:
+//! the base `AMBIENT | DIFFUSE | EMISSION | SPOT | DISTRIBUTED` plus every combination of
+//! `SPECULAR`, `ATTENUATION` and (with specular) `FRESNEL`, the bits that change the
+//! per-pixel cost. The cheap terms are always compiled in and switched off, where the draw
+//! leaves them out, by zeroing their coefficient in a copy of the material (`ka`, `kd`,
+//! `emission`; `ks` needs no copy since SPECULAR is specialized). Spot and distributed lights
+//! cost nothing when the light set has none; a draw that leaves out SPOT or DISTRIBUTED while
+//! its light set holds such lights still sees them (drop them from the `LightSet` instead).
+
+use glam::{Vec2, Vec3, Vec4};
+use phosphor_lighting::{Effects, Material};
+
+use crate::clip::Attrs;
+use crate::scanline::BandTarget;
+use crate::setup::TriGeom;
+
+pub mod fast_phong;
+pub mod flat;
+pub mod gouraud;
+pub mod phong;
+pub mod reference;
+
+/// One mesh vertex in world space, as the vertex stage hands it to a mode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VertexIn {
+    /// World position.
+    pub world: Vec3,
+    /// World normal (unit, or zero when the input was degenerate).
+    pub normal: Vec3,
+    /// Texture coordinate (zero without uvs).
+    pub uv: Vec2,
+    /// World tangent with handedness in `w` (zero without tangents).
+    pub tangent: Vec4,
+}
+
+/// Per-draw stages of a shading mode: the vertex attributes, the triangle set-up, and the
+/// drawing of one set-up triangle into a band.
+pub trait Mode: Sync {
+    /// Attributes written by [`Mode::vertex`] and interpolated by the traversal.
+    const ATTRS: usize;
+    /// Per-triangle data.
+    type Tri: Send + Sync;
+    /// The attributes of one vertex.
+    fn vertex(&self, v: &VertexIn) -> Attrs;
+    /// Set-up for one screen triangle `geom` cut from mesh triangle `src`.
+    fn triangle(&self, src: &[VertexIn; 3], geom: &TriGeom) -> Self::Tri;
+    /// Draws the triangle's pixels inside `target`; returns the pixels shaded.
+    fn draw(&self, geom: &TriGeom, tri: &Self::Tri, target: &mut BandTarget) -> u64;
+    /// True when the set-up fell back to a costlier kernel (fast Phong to Phong).
+    fn is_fallback(_tri: &Self::Tri) -> bool {
+        false
+    }
+}
+
+/// Bits always compiled into a kernel (cheap, or free when the light set lacks them).
+pub const BASE_FX: u32 = Effects::AMBIENT.bits()
+    | Effects::DIFFUSE.bits()
+    | Effects::EMISSION.bits()
+    | Effects::SPOT.bits()
+    | Effects::DISTRIBUTED.bits();
+
+/// Runs `$body` with `const $fx: u32` set to the instantiation for runtime effects `$effects`
+/// (see the module docs for the six instantiations).
+#[macro_export]
+#[doc(hidden)]
+macro_rules! with_fx {
+    ($effects:expr, $fx:ident => $body:expr) => {{
+        use phosphor_lighting::Effects as E;
+        use $crate::shade::BASE_FX;
+        let e: E = $effects;
+        let s = e.contains(E::SPECULAR);
+        let a = e.contains(E::ATTENUATION);
+        let f = s && e.contains(E::FRESNEL);
+        match (s, a, f) {
+            (false, false, _) => {
+                const $fx: u32 = BASE_FX;
+                $body
+            }
+            (false, true, _) => {
+                const $fx: u32 = BASE_FX | E::ATTENUATION.bits();
+                $body
+            }
+            (true, false, false) => {
+                const $fx: u32 = BASE_FX | E::SPECULAR.bits();
+                $body
+            }
+            (true, true, false) => {
+                const $fx: u32 = BASE_FX | E::SPECULAR.bits() | E::ATTENUATION.bits();
+                $body
+            }
+            (true, false, true) => {
+                const $fx: u32 = BASE_FX | E::SPECULAR.bits() | E::FRESNEL.bits();
+                $body
+            }
+            (true, true, true) => {
+                const $fx: u32 =
+                    BASE_FX | E::SPECULAR.bits() | E::ATTENUATION.bits() | E::FRESNEL.bits();
+                $body
+            }
+        }
+    }};
+}
+
+/// The material as the draw's effects see it: coefficients of left-out cheap terms zeroed.
+#[must_use]
+pub fn effective_material(mat: &Material, effects: Effects) -> Material {
+    let mut m = *mat;
+    if !effects.contains(Effects::AMBIENT) {
+        m.ka = Vec3::ZERO;
+    }
+    if !effects.contains(Effects::DIFFUSE) {
+        m.kd = Vec3::ZERO;
+    }
+    if !effects.contains(Effects::EMISSION) {
+        m.emission = Vec3::ZERO;
+    }
+    m
+}
+
+/// Writes `v` into `attrs[at..at + 3]`.
+#[inline]
+pub(crate) fn put3(attrs: &mut Attrs, at: usize, v: Vec3) {
+    attrs[at] = v.x;
+    attrs[at + 1] = v.y;
+    attrs[at + 2] = v.z;
+}
+
+/// Reads `attrs[at..at + 3]`.
+#[inline]
+#[must_use]
+pub(crate) fn get3(attrs: &Attrs, at: usize) -> Vec3 {
+    Vec3::new(attrs[at], attrs[at + 1], attrs[at + 2])
+}
+
+/// The standard attribute layout of the per-pixel modes: world position 0..3, normal 3..6,
+/// uv 6..8, tangent 8..12.
+#[must_use]
+pub(crate) fn surface_attrs(v: &VertexIn) -> Attrs {
+    let mut a = [0.0; crate::clip::MAX_ATTRS];
+    put3(&mut a, 0, v.world);
+    put3(&mut a, 3, v.normal);
+    a[6] = v.uv.x;
+    a[7] = v.uv.y;
+    a[8] = v.tangent.x;
+    a[9] = v.tangent.y;
+    a[10] = v.tangent.z;
+    a[11] = v.tangent.w;
+    a
+}
+
+/// What every lit mode shades with: the draw's lights, material and viewer.
+#[derive(Debug, Clone, Copy)]
+pub struct Lit<'a> {
+    /// Lights prepared for the draw.
+    pub set: &'a phosphor_lighting::LightSet,
+    /// The material, with left-out terms zeroed ([`effective_material`]).
+    pub mat: Material,
+    /// Viewer position (the camera eye).
+    pub eye: Vec3,
+}

@@ -1,0 +1,57 @@
+//! `phong`: normals and world positions interpolated, the normal renormalized, the full model
+//! per pixel (seeds: normal-vector interpolation shading). With `BUMP`, the normal is
+//! perturbed by the height field in the tangent frame first.
+
+use glam::{Vec2, Vec3, Vec4};
+use phosphor_lighting::shade;
+
+use super::{Lit, Mode, VertexIn, get3, surface_attrs};
+use crate::bump::BumpMap;
+use crate::clip::Attrs;
+use crate::scanline::{BandTarget, Kernel, traverse};
+use crate::setup::TriGeom;
+
+/// The Phong mode for effect set `FX`, with or without bump mapping.
+#[derive(Debug, Clone, Copy)]
+pub struct Phong<'a, const FX: u32, const BUMP: bool> {
+    /// Lights, material, viewer.
+    pub lit: Lit<'a>,
+    /// The height field (used only when `BUMP`).
+    pub bump: Option<&'a BumpMap>,
+}
+
+impl<const FX: u32, const BUMP: bool> Kernel for Phong<'_, FX, BUMP> {
+    const ATTRS: usize = if BUMP { 12 } else { 6 };
+    type Tri = ();
+    type Span = ();
+    #[inline]
+    fn span(&self, _: &(), _: f32, _: f32) {}
+    #[inline]
+    fn shade(&self, _: &(), _: &(), attrs: &Attrs, _: u32, _: u32) -> Vec3 {
+        let p = get3(attrs, 0);
+        let mut n = get3(attrs, 3);
+        if BUMP {
+            if let Some(map) = self.bump {
+                let uv = Vec2::new(attrs[6], attrs[7]);
+                let t = Vec4::new(attrs[8], attrs[9], attrs[10], attrs[11]);
+                n = map.perturb(n, t, uv);
+            }
+        }
+        // `shade` renormalizes n (a zero or non-finite n gives ambient + emission).
+        shade::<FX>(self.lit.set, &self.lit.mat, p, n, self.lit.eye)
+    }
+    #[inline]
+    fn step(_: &mut ()) {}
+}
+
+impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
+    const ATTRS: usize = if BUMP { 12 } else { 6 };
+    type Tri = ();
+    fn vertex(&self, v: &VertexIn) -> Attrs {
+        surface_attrs(v)
+    }
+    fn triangle(&self, _: &[VertexIn; 3], _: &TriGeom) {}
+    fn draw(&self, geom: &TriGeom, tri: &(), target: &mut BandTarget) -> u64 {
+        traverse(geom, self, tri, target)
+    }
+}

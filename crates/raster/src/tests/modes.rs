@@ -1,0 +1,1 @@
+//! Shading modes against each other.
