@@ -1,1 +1,448 @@
-//! Shading modes against each other.
+//! Shading modes against each other and against the f64 reference.
+
+use glam::{Mat4, Vec3, Vec4};
+use phosphor_lighting::{Effects, Light, LightSet, Material};
+
+use super::support::*;
+use crate::{BumpMap, Camera, DrawItem, ProceduralBump, RenderOptions, ShadingMode};
+
+const ONE_CODE: f32 = 1.0 / 255.0;
+
+fn share_within(d: &[f32], covered: &[bool], tol: f32) -> f64 {
+    let (mut n, mut ok) = (0usize, 0usize);
+    for (x, c) in d.iter().zip(covered) {
+        if *c {
+            n += 1;
+            ok += usize::from(*x <= tol);
+        }
+    }
+    ok as f64 / n.max(1) as f64
+}
+
+#[test]
+fn flat_gouraud_and_phong_agree_on_a_flat_face_under_a_distant_light_and_viewer() {
+    let quad = TestMesh {
+        positions: vec![
+            Vec3::new(-1.0, -1.0, 0.0),
+            Vec3::new(1.0, -1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 1.0, 0.0),
+        ],
+        normals: vec![Vec3::Z; 4],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        ..TestMesh::default()
+    };
+    let set = LightSet::new(
+        Vec3::splat(0.2),
+        &[Light::directional(Vec3::new(-0.3, -0.2, -1.0), Vec3::ONE).unwrap()],
+    );
+    let mat = Material::s1();
+    // The viewer 1000 units away: V is constant across the face to 1e-3 rad.
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.0, 1000.0),
+        fov_y_deg: 0.05,
+        near: 900.0,
+        far: 1100.0,
+        ..Camera::s1()
+    };
+    let opts = RenderOptions::default();
+    let img = |mode| draw_image(48, 32, &cam, &[item(&quad, &mat, &set, mode)], &opts).0;
+    let (flat, gouraud, phong) = (
+        img(ShadingMode::Flat),
+        img(ShadingMode::Gouraud),
+        img(ShadingMode::Phong),
+    );
+    assert!(
+        flat.color().iter().all(|c| *c != Vec3::ZERO),
+        "the quad fills the image"
+    );
+    for d in [
+        diffs(&flat, &gouraud),
+        diffs(&flat, &phong),
+        diffs(&gouraud, &phong),
+    ] {
+        let worst = d.iter().fold(0.0f32, |a, b| a.max(*b));
+        // V still turns by 1e-3 rad across the face, which (V.R)^32 feels: a quarter code.
+        assert!(worst < 1e-3, "modes disagree by {worst}");
+    }
+}
+
+fn sphere_scene() -> (TestMesh, LightSet, Material) {
+    // 128 x 80 quads: 20 224 triangles.
+    (uv_sphere(1.0, 128, 80), s1_lights(), Material::s1())
+}
+
+#[test]
+fn phong_matches_reference_on_a_fine_sphere() {
+    let (sphere, set, mat) = sphere_scene();
+    assert!(sphere.indices.len() > 20_000);
+    let cam = Camera::s1();
+    let opts = RenderOptions::default();
+    let (phong, _) = draw_image(
+        320,
+        240,
+        &cam,
+        &[item(&sphere, &mat, &set, ShadingMode::Phong)],
+        &opts,
+    );
+    let (reference, _) = draw_image(
+        320,
+        240,
+        &cam,
+        &[item(&sphere, &mat, &set, ShadingMode::Reference)],
+        &opts,
+    );
+    let covered: Vec<bool> = phong.depth().iter().map(|z| *z < 1.0).collect();
+    let share = share_within(&diffs(&phong, &reference), &covered, ONE_CODE);
+    println!(
+        "phong vs reference: {:.4}% of {} pixels within 1/255",
+        share * 100.0,
+        covered.iter().filter(|c| **c).count()
+    );
+    assert!(share >= 0.999, "only {share} within 1/255");
+}
+
+#[test]
+fn fast_phong_matches_phong_on_the_sphere_within_its_bound() {
+    let (sphere, set, mat) = sphere_scene();
+    let cam = Camera::s1();
+    let opts = RenderOptions::default();
+    let (fast, stats) = draw_image(
+        320,
+        240,
+        &cam,
+        &[item(&sphere, &mat, &set, ShadingMode::FastPhong)],
+        &opts,
+    );
+    let (phong, _) = draw_image(
+        320,
+        240,
+        &cam,
+        &[item(&sphere, &mat, &set, ShadingMode::Phong)],
+        &opts,
+    );
+    let d = diffs(&fast, &phong);
+    let worst = d.iter().fold(0.0f32, |a, b| a.max(*b));
+    let rmse = (d.iter().map(|x| (x * x) as f64).sum::<f64>() / d.len() as f64).sqrt();
+    let covered: Vec<bool> = phong.depth().iter().map(|z| *z < 1.0).collect();
+    let share = share_within(&d, &covered, 2.0 * ONE_CODE);
+    println!(
+        "fast-phong vs phong: max {:.5} ({:.2} codes), rmse {rmse:.6}, {:.3}% within 2/255, fallbacks {} of {} pieces",
+        worst,
+        worst * 255.0,
+        share * 100.0,
+        stats.fallbacks,
+        stats.triangles_drawn
+    );
+    assert!(worst <= 4.0 * ONE_CODE, "worst {worst}");
+    assert!(rmse <= 0.002, "rmse {rmse}");
+    assert!(share >= 0.999);
+}
+
+#[test]
+fn fast_phong_does_not_blow_up_on_a_screen_filling_triangle_with_spread_normals() {
+    // Normals 120 degrees apart, the triangle covering the whole view.
+    let n = |a: f32| {
+        Vec3::new(
+            a.to_radians().sin() * 60f32.to_radians().sin(),
+            a.to_radians().cos() * 60f32.to_radians().sin(),
+            60f32.to_radians().cos(),
+        )
+    };
+    let tri = TestMesh {
+        positions: vec![
+            Vec3::new(-4.0, -3.0, 0.0),
+            Vec3::new(4.0, -3.0, 0.0),
+            Vec3::new(0.0, 5.0, 0.0),
+        ],
+        normals: vec![n(240.0), n(120.0), n(0.0)],
+        indices: vec![[0, 1, 2]],
+        ..TestMesh::default()
+    };
+    for i in 0..3 {
+        for j in 0..i {
+            let angle = tri.normals[i].angle_between(tri.normals[j]).to_degrees();
+            assert!(angle > 85.0, "{angle}");
+        }
+    }
+    let set = s1_lights();
+    let mat = Material::s1();
+    let cam = Camera::s1();
+    let opts = RenderOptions::default();
+    let (fast, stats) = draw_image(
+        160,
+        120,
+        &cam,
+        &[item(&tri, &mat, &set, ShadingMode::FastPhong)],
+        &opts,
+    );
+    let (phong, _) = draw_image(
+        160,
+        120,
+        &cam,
+        &[item(&tri, &mat, &set, ShadingMode::Phong)],
+        &opts,
+    );
+    assert_eq!(stats.fallbacks, 1, "the fit must be refused");
+    assert!(diffs(&fast, &phong).iter().all(|d| *d <= ONE_CODE));
+}
+
+#[test]
+fn images_are_bit_identical_for_1_2_and_all_threads() {
+    let (sphere, set, mat) = sphere_scene();
+    let cam = Camera::s1();
+    for mode in [
+        ShadingMode::Phong,
+        ShadingMode::FastPhong,
+        ShadingMode::Gouraud,
+    ] {
+        let run = |threads| {
+            draw_image(
+                200,
+                150,
+                &cam,
+                &[item(&sphere, &mat, &set, mode)],
+                &RenderOptions {
+                    threads,
+                    ..RenderOptions::default()
+                },
+            )
+            .0
+        };
+        let (one, two, all) = (run(1), run(2), run(0));
+        assert!(
+            one.color() == two.color() && one.depth() == two.depth(),
+            "{mode}"
+        );
+        assert!(one.color() == all.color(), "{mode}");
+    }
+}
+
+fn floor() -> TestMesh {
+    // A big floor through and behind the camera: crosses the near plane.
+    TestMesh {
+        positions: vec![
+            Vec3::new(-20.0, -1.0, 10.0),
+            Vec3::new(20.0, -1.0, 10.0),
+            Vec3::new(0.0, -1.0, -30.0),
+        ],
+        normals: vec![Vec3::Y; 3],
+        uvs: vec![
+            glam::Vec2::new(0.0, 0.0),
+            glam::Vec2::new(4.0, 0.0),
+            glam::Vec2::new(2.0, 4.0),
+        ],
+        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 3],
+        indices: vec![[0, 1, 2]],
+    }
+}
+
+#[test]
+fn near_plane_crossing_triangle_renders_like_the_reference() {
+    let tri = floor();
+    let set = LightSet::new(
+        Vec3::splat(0.1),
+        &[Light::point(Vec3::new(0.0, 1.0, 0.0), Vec3::splat(2.0)).unwrap()],
+    );
+    let mat = Material::s1();
+    let cam = Camera::s1();
+    let opts = RenderOptions::default();
+    let (phong, stats) = draw_image(
+        160,
+        120,
+        &cam,
+        &[item(&tri, &mat, &set, ShadingMode::Phong)],
+        &opts,
+    );
+    let (reference, _) = draw_image(
+        160,
+        120,
+        &cam,
+        &[item(&tri, &mat, &set, ShadingMode::Reference)],
+        &opts,
+    );
+    assert_eq!(stats.triangles_drawn, 1);
+    // The floor covers every row from the bottom up to where it passes the far plane
+    // (distance 10: row 74.5), and nothing above.
+    for x in 0..160 {
+        for y in 76..120 {
+            assert!(phong.depth_at(x, y) < 1.0, "hole at ({x}, {y})");
+        }
+        assert_eq!(
+            phong.depth_at(x, 70),
+            1.0,
+            "beyond the far plane at column {x}"
+        );
+    }
+    let covered: Vec<bool> = phong.depth().iter().map(|z| *z < 1.0).collect();
+    let share = share_within(&diffs(&phong, &reference), &covered, ONE_CODE);
+    assert!(share >= 0.999, "{share}");
+    maybe_write_doc(&phong, "raster-near-clip.png");
+    // Entirely behind the camera: nothing.
+    let behind = DrawItem {
+        model: Mat4::from_translation(Vec3::new(0.0, 0.0, 50.0)),
+        ..item(&tri, &mat, &set, ShadingMode::Phong)
+    };
+    let (img, stats) = draw_image(64, 48, &cam, &[behind], &opts);
+    assert_eq!(stats.pixels_shaded, 0);
+    assert!(img.color().iter().all(|c| *c == Vec3::ZERO));
+}
+
+#[test]
+fn screen_space_interpolation_differs_from_perspective_correct_on_a_receding_plane() {
+    let tri = floor();
+    let set = LightSet::new(
+        Vec3::splat(0.1),
+        &[Light::point(Vec3::new(0.0, 1.0, 0.0), Vec3::splat(2.0)).unwrap()],
+    );
+    let mat = Material::s1();
+    let cam = Camera::s1();
+    let persp = draw_image(
+        160,
+        120,
+        &cam,
+        &[item(&tri, &mat, &set, ShadingMode::Gouraud)],
+        &RenderOptions::default(),
+    )
+    .0;
+    let linear = RenderOptions {
+        perspective_correct: false,
+        ..RenderOptions::default()
+    };
+    let lin = draw_image(
+        160,
+        120,
+        &cam,
+        &[item(&tri, &mat, &set, ShadingMode::Gouraud)],
+        &linear,
+    )
+    .0;
+    let worst = diffs(&persp, &lin).iter().fold(0.0f32, |a, b| a.max(*b));
+    assert!(worst > 0.01, "{worst}");
+    assert!(lin.color().iter().all(|c| c.is_finite()));
+}
+
+#[test]
+fn bump_mapping_perturbs_phong_and_reference_alike_and_flat_ignores_it() {
+    let (sphere, set, mat) = (uv_sphere(1.0, 96, 64), s1_lights(), Material::s1());
+    let bump = BumpMap::Procedural {
+        kind: ProceduralBump::Bumps,
+        scale: 0.3,
+    };
+    let cam = Camera::s1();
+    let opts = RenderOptions::default();
+    let bumped = |mode| DrawItem {
+        bump: Some(&bump),
+        effects: Effects::ALL,
+        ..item(&sphere, &mat, &set, mode)
+    };
+    let (phong, s1) = draw_image(200, 150, &cam, &[bumped(ShadingMode::Phong)], &opts);
+    let (reference, _) = draw_image(200, 150, &cam, &[bumped(ShadingMode::Reference)], &opts);
+    let (fast, s3) = draw_image(200, 150, &cam, &[bumped(ShadingMode::FastPhong)], &opts);
+    let (plain, _) = draw_image(
+        200,
+        150,
+        &cam,
+        &[item(&sphere, &mat, &set, ShadingMode::Phong)],
+        &opts,
+    );
+    assert_eq!(s1.bump_ignored + s3.bump_ignored, 0);
+    let covered: Vec<bool> = phong.depth().iter().map(|z| *z < 1.0).collect();
+    assert!(share_within(&diffs(&phong, &reference), &covered, ONE_CODE) >= 0.99);
+    assert!(
+        fast.color() == phong.color(),
+        "bumped fast-phong draws with phong"
+    );
+    let changed = diffs(&phong, &plain).iter().filter(|d| **d > 0.05).count();
+    assert!(changed > 1000, "bumps visible: {changed}");
+    maybe_write_doc(&phong, "raster-bump.png");
+    let (_, s) = draw_image(64, 48, &cam, &[bumped(ShadingMode::Flat)], &opts);
+    assert_eq!(s.bump_ignored, 1);
+    let no_frame = TestMesh {
+        uvs: vec![],
+        tangents: vec![],
+        ..sphere.clone()
+    };
+    let d = DrawItem {
+        bump: Some(&bump),
+        ..item(&no_frame, &mat, &set, ShadingMode::Phong)
+    };
+    assert_eq!(draw_image(64, 48, &cam, &[d], &opts).1.bump_ignored, 1);
+}
+
+#[test]
+fn bad_input_never_panics_nor_writes_nan() {
+    let mesh = TestMesh {
+        positions: vec![Vec3::ZERO, Vec3::X, Vec3::NAN, Vec3::Y, Vec3::splat(1e30)],
+        normals: vec![Vec3::ZERO, Vec3::NAN, Vec3::Z, Vec3::Z, Vec3::Z],
+        indices: vec![
+            [0, 1, 2],
+            [0, 1, 3],
+            [0, 1, 99],
+            [0, 0, 0],
+            [0, 3, 4],
+            [1, 3, 4],
+        ],
+        ..TestMesh::default()
+    };
+    let (set, mat) = (s1_lights(), Material::s1());
+    for mode in crate::ShadingMode::ALL {
+        for cull in [false, true] {
+            let opts = RenderOptions {
+                cull_backfaces: cull,
+                ..RenderOptions::default()
+            };
+            let (fb, _) = draw_image(
+                40,
+                30,
+                &Camera::s1(),
+                &[item(&mesh, &mat, &set, mode)],
+                &opts,
+            );
+            assert!(
+                fb.color()
+                    .iter()
+                    .all(|c| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0)
+            );
+        }
+    }
+}
+
+#[test]
+fn docs_modes_side_by_side() {
+    // Writes docs/raster-modes.png (flat, gouraud, phong, fast-phong, reference) on request.
+    if std::env::var_os("PHOSPHOR_WRITE_DOCS").is_none() {
+        return;
+    }
+    let (sphere, set, mat) = (uv_sphere(1.0, 24, 16), s1_lights(), Material::s1());
+    let cam = Camera {
+        eye: Vec3::new(0.0, 0.0, 2.8),
+        ..Camera::s1()
+    };
+    let (w, h) = (160u32, 160u32);
+    let mut strip = crate::Framebuffer::new(w * 5, h).unwrap();
+    for (k, mode) in [
+        ShadingMode::Flat,
+        ShadingMode::Gouraud,
+        ShadingMode::Phong,
+        ShadingMode::FastPhong,
+        ShadingMode::Reference,
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let (fb, _) = draw_image(
+            w,
+            h,
+            &cam,
+            &[item(&sphere, &mat, &set, mode)],
+            &RenderOptions::default(),
+        );
+        for y in 0..h {
+            for x in 0..w {
+                strip.color[(y * w * 5 + k as u32 * w + x) as usize] = fb.pixel(x, y);
+            }
+        }
+    }
+    maybe_write_doc(&strip, "raster-modes.png");
+}

@@ -194,6 +194,7 @@ pub fn maybe_write_doc(fb: &Framebuffer, name: &str) {
     if std::env::var_os("PHOSPHOR_WRITE_DOCS").is_some() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs");
         std::fs::create_dir_all(&dir).unwrap();
-        fb.save_png(&dir.join(name), crate::Encoding::Srgb).unwrap();
+        fb.save_png(&dir.join(name), crate::Encoding::Linear)
+            .unwrap(); // S1 is linear-encoded
     }
 }
