@@ -1,0 +1,177 @@
+//! The [`Mesh`] type: an indexed triangle list whose vertices are already split where surfaces
+//! meet, so a renderer can interpolate `normals` without knowing about creases.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use crate::normals::triangle_normal_f64;
+
+/// A material from an MTL file (the subset the seeds' illumination model uses).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MtlMaterial {
+    /// `newmtl` name.
+    pub name: String,
+    /// Ambient reflectance `Ka` (default 0).
+    pub ka: Vec3,
+    /// Diffuse reflectance `Kd` (default 0.8 grey).
+    pub kd: Vec3,
+    /// Specular reflectance `Ks` (default 0).
+    pub ks: Vec3,
+    /// Specular exponent `Ns` (default 1).
+    pub ns: f32,
+}
+
+impl Default for MtlMaterial {
+    fn default() -> Self {
+        MtlMaterial {
+            name: String::from("default"),
+            ka: Vec3::ZERO,
+            kd: Vec3::splat(0.8),
+            ks: Vec3::ZERO,
+            ns: 1.0,
+        }
+    }
+}
+
+/// An indexed triangle mesh.
+///
+/// Invariants kept by every constructor in this crate: `normals` has one unit, finite entry per
+/// position; `uvs` and `tangents`, when present, have one entry per position; every index is in
+/// range; `surface_ids`, `material_ids` and `smoothing_groups` have one entry per triangle.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// One per vertex (vertices are split where surfaces meet).
+    pub positions: Vec<Vec3>,
+    /// Unit, finite, same length as `positions`.
+    pub normals: Vec<Vec3>,
+    /// Texture coordinates, same length as `positions` when present.
+    pub uvs: Option<Vec<Vec2>>,
+    /// `xyz` unit tangent (perpendicular to the normal), `w` = handedness (+1/-1) so that
+    /// `bitangent = w * normal.cross(tangent)`; same length as `positions` when present.
+    pub tangents: Option<Vec<Vec4>>,
+    /// Triangles, counter-clockwise = front.
+    pub indices: Vec<[u32; 3]>,
+    /// Per triangle: the surface (connected set of triangles smoothed together) it belongs to.
+    pub surface_ids: Vec<u32>,
+    /// Per triangle: index into `materials` (0 when there are none).
+    pub material_ids: Vec<u32>,
+    /// Per triangle: the OBJ smoothing group (`s N`), 0 for `s off` or a file without `s` lines.
+    pub smoothing_groups: Vec<u32>,
+    /// Materials from the MTL file; may be empty.
+    pub materials: Vec<MtlMaterial>,
+    /// `o`/`g` names in order of first appearance, informational.
+    pub groups: Vec<String>,
+}
+
+impl Mesh {
+    /// Number of triangles.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// The unit normal of triangle `tri` from its positions (counter-clockwise = front),
+    /// computed in f64 so slivers and huge or tiny coordinates keep their direction.
+    /// `None` for a zero-area (degenerate) triangle or an index out of range.
+    #[must_use]
+    pub fn face_normal(&self, tri: usize) -> Option<Vec3> {
+        let [a, b, c] = self.triangle_positions(tri)?;
+        triangle_normal_f64(a, b, c).map(|(n, _)| n.as_vec3())
+    }
+
+    /// The three corner positions of triangle `tri`, `None` when out of range.
+    #[must_use]
+    pub fn triangle_positions(&self, tri: usize) -> Option<[Vec3; 3]> {
+        let idx = self.indices.get(tri)?;
+        Some([
+            *self.positions.get(idx[0] as usize)?,
+            *self.positions.get(idx[1] as usize)?,
+            *self.positions.get(idx[2] as usize)?,
+        ])
+    }
+
+    /// Axis-aligned bounds `(min, max)` of the positions; `(0, 0)` for an empty mesh.
+    #[must_use]
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut it = self.positions.iter();
+        let Some(&first) = it.next() else {
+            return (Vec3::ZERO, Vec3::ZERO);
+        };
+        it.fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)))
+    }
+
+    /// Moves the bounding-box centre to the origin and scales uniformly so that the farthest
+    /// vertex is at distance 1 (DESIGN.md, scene S1). Normals and tangents are unchanged (a
+    /// uniform scale keeps directions). A mesh whose vertices all coincide is only translated.
+    pub fn normalize_unit(&mut self) {
+        let (lo, hi) = self.bounds();
+        let centre = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
+        let farthest = self
+            .positions
+            .iter()
+            .map(|p| (p.as_dvec3() - centre).length())
+            .fold(0.0_f64, f64::max);
+        let scale = if farthest > 0.0 && farthest.is_finite() {
+            1.0 / farthest
+        } else {
+            1.0
+        };
+        for p in &mut self.positions {
+            *p = ((p.as_dvec3() - centre) * scale).as_vec3();
+        }
+    }
+
+    /// Number of triangles whose area is zero (see [`Mesh::face_normal`]).
+    #[must_use]
+    pub fn degenerate_count(&self) -> usize {
+        (0..self.indices.len())
+            .filter(|&t| self.face_normal(t).is_none())
+            .count()
+    }
+
+    /// Twice the area of triangle `tri` in f64 (0 when degenerate or out of range).
+    #[must_use]
+    pub fn double_area(&self, tri: usize) -> f64 {
+        self.triangle_positions(tri)
+            .and_then(|[a, b, c]| triangle_normal_f64(a, b, c))
+            .map_or(0.0, |(_, a2)| a2)
+    }
+
+    /// True when every invariant in the type docs holds (lengths, index ranges, unit finite
+    /// normals and tangents). Used by the tests; cheap enough for debug assertions.
+    #[must_use]
+    pub fn is_consistent(&self) -> bool {
+        let n = self.positions.len();
+        let t = self.indices.len();
+        let unit = |v: Vec3| v.is_finite() && (v.length() - 1.0).abs() < 1e-4;
+        self.normals.len() == n
+            && self
+                .uvs
+                .as_ref()
+                .is_none_or(|u| u.len() == n && u.iter().all(|x| x.is_finite()))
+            && self.tangents.as_ref().is_none_or(|ts| {
+                ts.len() == n && ts.iter().all(|x| unit(x.truncate()) && x.w.abs() == 1.0)
+            })
+            && self.surface_ids.len() == t
+            && self.material_ids.len() == t
+            && self.smoothing_groups.len() == t
+            && self.positions.iter().all(|p| p.is_finite())
+            && self.normals.iter().all(|&v| unit(v))
+            && self
+                .indices
+                .iter()
+                .all(|tri| tri.iter().all(|&i| (i as usize) < n))
+    }
+}
+
+/// Tangent for bump mapping where the mesh gives no uv direction: a unit vector perpendicular
+/// to `n`, continuous except on one great circle, from Duff et al., "Building an Orthonormal
+/// Basis, Revisited" (JCGT 2017). `w` is +1. A non-unit or non-finite `n` is treated as +Z.
+#[must_use]
+pub fn fallback_tangent(n: Vec3) -> Vec4 {
+    let n = phosphor_math::safe_normalize(n, Vec3::Z);
+    let sign = 1.0_f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let t = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    phosphor_math::safe_normalize(t, Vec3::X).extend(1.0)
+}
