@@ -1,0 +1,271 @@
+//! OBJ loading: tobj for geometry and MTL, [`crate::scan`] for smoothing groups and
+//! line-numbered errors, ear clipping for polygons, then [`crate::TriangleSoup::build`] for
+//! normals and tangents.
+//!
+//! Positions are welded by exact equality across tobj's models (tobj re-emits positions per
+//! `o`/`g`/`usemtl` model, ECOSYSTEM.md 1.3), so faces on both sides of a group or material
+//! boundary share a position and may be smoothed together when the rule allows it.
+//! Texture coordinates are kept only when every polygon corner names a `vt`, authored normals
+//! only when every corner names a `vn` (otherwise normals are computed).
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+
+use crate::build::{TriangleSoup, weld_key};
+use crate::error::MeshError;
+use crate::mesh::{Mesh, MtlMaterial};
+use crate::normals::{NormalOptions, NormalSource};
+use crate::scan::{Scan, scan};
+use crate::triangulate::triangulate;
+
+/// Loads an OBJ file (and the MTL files its `mtllib` lines name, relative to the OBJ).
+///
+/// A missing MTL or an undefined material is not an error (DESIGN.md): the mesh gets the
+/// default material; [`load_obj_with_warnings`] returns those warnings.
+pub fn load_obj(path: &Path, opts: &NormalOptions) -> Result<Mesh, MeshError> {
+    load_obj_with_warnings(path, opts).map(|(m, _)| m)
+}
+
+/// Like [`load_obj`], also returning warnings (one line each, `FILE[:LINE]: what`).
+pub fn load_obj_with_warnings(
+    path: &Path,
+    opts: &NormalOptions,
+) -> Result<(Mesh, Vec<String>), MeshError> {
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+        file: file.clone(),
+        source,
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        MeshError::Parse {
+            file: file.clone(),
+            line: valid.iter().filter(|&&b| b == b'\n').count() + 1,
+            what: "not valid UTF-8".to_owned(),
+        }
+    })?;
+    let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let warnings = RefCell::new(Vec::new());
+    let loader = |mtl: &Path| {
+        let full = dir.join(mtl);
+        match std::fs::read(&full) {
+            Ok(b) => tobj::load_mtl_buf(&mut b.as_slice()).inspect_err(|e| {
+                warnings.borrow_mut().push(format!(
+                    "{}: {e}; using the default material",
+                    full.display()
+                ));
+            }),
+            Err(e) => {
+                warnings.borrow_mut().push(format!(
+                    "{}: cannot read: {e}; using the default material",
+                    full.display()
+                ));
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+        }
+    };
+    let mesh = parse_with(&text, &file, loader, opts, &warnings)?;
+    Ok((mesh, warnings.into_inner()))
+}
+
+/// Parses OBJ text; `name` is used in messages, `mtl` is the text of the MTL file the OBJ's
+/// `mtllib` names (`None`: no materials).
+pub fn parse_obj(
+    text: &str,
+    name: &str,
+    mtl: Option<&str>,
+    opts: &NormalOptions,
+) -> Result<Mesh, MeshError> {
+    parse_obj_with_warnings(text, name, mtl, opts).map(|(m, _)| m)
+}
+
+/// Like [`parse_obj`], also returning warnings (missing MTL, undefined materials).
+pub fn parse_obj_with_warnings(
+    text: &str,
+    name: &str,
+    mtl: Option<&str>,
+    opts: &NormalOptions,
+) -> Result<(Mesh, Vec<String>), MeshError> {
+    let warnings = RefCell::new(Vec::new());
+    let loader = |_: &Path| match mtl {
+        Some(t) => tobj::load_mtl_buf(&mut t.as_bytes()).inspect_err(|e| {
+            warnings
+                .borrow_mut()
+                .push(format!("{name}: MTL: {e}; using the default material"));
+        }),
+        None => {
+            warnings.borrow_mut().push(format!(
+                "{name}: mtllib given but no MTL text; using the default material"
+            ));
+            Err(tobj::LoadError::OpenFileFailed)
+        }
+    };
+    let mesh = parse_with(text, name, loader, opts, &warnings)?;
+    Ok((mesh, warnings.into_inner()))
+}
+
+fn convert_material(m: &tobj::Material) -> MtlMaterial {
+    let d = MtlMaterial::default();
+    let rgb = |c: Option<[f32; 3]>, default: Vec3| {
+        c.map(Vec3::from_array)
+            .filter(|v| v.is_finite() && v.min_element() >= 0.0)
+            .unwrap_or(default)
+    };
+    MtlMaterial {
+        name: m.name.clone(),
+        ka: rgb(m.ambient, d.ka),
+        kd: rgb(m.diffuse, d.kd),
+        ks: rgb(m.specular, d.ks),
+        ns: m
+            .shininess
+            .filter(|s| s.is_finite() && *s >= 0.0)
+            .unwrap_or(d.ns),
+    }
+}
+
+fn invalid(file: &str, what: impl Into<String>) -> MeshError {
+    MeshError::Invalid {
+        file: file.to_owned(),
+        what: what.into(),
+    }
+}
+
+fn parse_with<ML: Fn(&Path) -> tobj::MTLLoadResult>(
+    text: &str,
+    file: &str,
+    mtl_loader: ML,
+    opts: &NormalOptions,
+    warnings: &RefCell<Vec<String>>,
+) -> Result<Mesh, MeshError> {
+    let scanned = scan(text, file)?;
+    if scanned.faces.is_empty() {
+        return Err(MeshError::NoFaces {
+            file: file.to_owned(),
+        });
+    }
+    let load_opts = tobj::LoadOptions {
+        single_index: false,
+        triangulate: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let (models, materials) = tobj::load_obj_buf(&mut text.as_bytes(), &load_opts, mtl_loader)
+        .map_err(|e| invalid(file, format!("tobj: {e}")))?;
+    let materials: Vec<MtlMaterial> = materials
+        .map(|m| m.iter().map(convert_material).collect())
+        .unwrap_or_default();
+    for (line, name) in &scanned.usemtl {
+        if !materials.iter().any(|m| &m.name == name) {
+            warnings.borrow_mut().push(format!(
+                "{file}:{line}: material '{name}' is not defined; using the default material"
+            ));
+        }
+    }
+    let mut soup = assemble(&models, &scanned, materials.len(), file)?;
+    if opts.source == NormalSource::Computed {
+        soup.normals = None;
+    }
+    let mut mesh = soup.build(opts);
+    mesh.materials = materials;
+    for m in models.iter().filter(|m| !m.mesh.indices.is_empty()) {
+        if !mesh.groups.contains(&m.name) {
+            mesh.groups.push(m.name.clone());
+        }
+    }
+    Ok(mesh)
+}
+
+/// Welds tobj's models into one soup, triangulating polygons; smoothing groups from the scan.
+fn assemble(
+    models: &[tobj::Model],
+    scanned: &Scan,
+    material_count: usize,
+    file: &str,
+) -> Result<TriangleSoup, MeshError> {
+    let mut soup = TriangleSoup::default();
+    let mut weld: HashMap<[u32; 3], u32> = HashMap::new();
+    let (mut uvs, mut uv_ix) = (Vec::new(), Vec::new());
+    let (mut vns, mut vn_ix) = (Vec::new(), Vec::new());
+    let mut use_uv = scanned.all_corners_have_uv;
+    let mut use_vn = scanned.all_corners_have_normal;
+    let mut groups = Vec::new();
+    let mut face = 0usize;
+    for model in models {
+        let m = &model.mesh;
+        let faces: Vec<usize> = if m.face_arities.is_empty() {
+            vec![3; m.indices.len() / 3]
+        } else {
+            m.face_arities.iter().map(|&a| a as usize).collect()
+        };
+        use_uv &= m.texcoord_indices.len() == m.indices.len();
+        use_vn &= m.normal_indices.len() == m.indices.len();
+        let (uv_base, vn_base) = (uvs.len() as u32, vns.len() as u32);
+        uvs.extend(m.texcoords.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])));
+        vns.extend(
+            m.normals
+                .chunks_exact(3)
+                .map(|c| Vec3::new(c[0], c[1], c[2])),
+        );
+        let position = |i: u32| {
+            let i = i as usize * 3;
+            m.positions
+                .get(i..i + 3)
+                .map(|c| Vec3::new(c[0], c[1], c[2]))
+        };
+        let material = m.material_id.filter(|&id| id < material_count).unwrap_or(0) as u32;
+        let mut start = 0usize;
+        for arity in faces {
+            let corners = m
+                .indices
+                .get(start..start + arity)
+                .ok_or_else(|| invalid(file, "tobj returned fewer indices than faces"))?;
+            let Some(info) = scanned.faces.get(face) else {
+                return Err(invalid(
+                    file,
+                    "face count differs between tobj and the line scan",
+                ));
+            };
+            let mut ids = Vec::with_capacity(arity);
+            let mut points = Vec::with_capacity(arity);
+            for &c in corners {
+                let p = position(c).ok_or_else(|| invalid(file, "tobj index out of range"))?;
+                let next = soup.positions.len() as u32;
+                ids.push(*weld.entry(weld_key(p)).or_insert_with(|| {
+                    soup.positions.push(p);
+                    next
+                }));
+                points.push(p);
+            }
+            for t in triangulate(&points) {
+                soup.triangles.push(t.map(|k| ids[k]));
+                let at =
+                    |v: &Vec<u32>, base: u32, k: usize| v.get(start + k).map_or(0, |&i| base + i);
+                uv_ix.push(t.map(|k| at(&m.texcoord_indices, uv_base, k)));
+                vn_ix.push(t.map(|k| at(&m.normal_indices, vn_base, k)));
+                groups.push(info.group);
+                soup.material_ids.push(material);
+            }
+            start += arity;
+            face += 1;
+        }
+    }
+    if face != scanned.faces.len() {
+        return Err(invalid(
+            file,
+            "face count differs between tobj and the line scan",
+        ));
+    }
+    if use_uv && !uvs.is_empty() {
+        soup.uvs = Some((uvs, uv_ix));
+    }
+    if use_vn && !vns.is_empty() {
+        soup.normals = Some((vns, vn_ix));
+    }
+    if scanned.has_smoothing_groups {
+        soup.smoothing_groups = Some(groups);
+    }
+    Ok(soup)
+}
