@@ -1,0 +1,136 @@
+//! Every malformed OBJ gives an error naming the file and, where there is one, the line.
+
+use std::path::Path;
+
+use phosphor_mesh::{MeshError, NormalOptions, load_obj, parse_obj};
+
+const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+
+fn error_of(text: &str) -> MeshError {
+    match parse_obj(text, "case.obj", None, &NormalOptions::default()) {
+        Ok(_) => panic!("expected an error for {text:?}"),
+        Err(e) => e,
+    }
+}
+
+fn assert_line(text: &str, line: usize, words: &str) {
+    let e = error_of(text);
+    let msg = e.to_string();
+    assert_eq!(e.line(), Some(line), "{msg}");
+    assert!(msg.starts_with(&format!("case.obj:{line}: ")), "{msg}");
+    assert!(msg.contains(words), "{msg} should mention {words}");
+}
+
+#[test]
+fn bad_number_names_its_line() {
+    assert_line(
+        "v 0 0 0\nv 1 x 0\nv 0 1 0\nf 1 2 3\n",
+        2,
+        "malformed number",
+    );
+    assert_line(
+        &format!("{TRI}vn 0 0 abc\nf 1 2 3\n"),
+        4,
+        "malformed number",
+    );
+    assert_line(&format!("{TRI}vt 0.5\nf 1 2 3\n"), 4, "expected 2 numbers");
+    assert_line(&format!("{TRI}f 1 2 three\n"), 4, "malformed vertex index");
+}
+
+#[test]
+fn zero_index_names_its_line() {
+    assert_line(&format!("{TRI}f 0 1 2\n"), 4, "index 0");
+    assert_line(
+        &format!("{TRI}vt 0 0\nf 1/0 2/1 3/1\n"),
+        5,
+        "texture index 0",
+    );
+}
+
+#[test]
+fn out_of_range_index_names_its_line() {
+    assert_line(&format!("{TRI}f 1 2 4\n"), 4, "out of range");
+    assert_line(&format!("{TRI}f -4 1 2\n"), 4, "out of range");
+    assert_line(
+        &format!("{TRI}vn 0 0 1\nf 1//2 2//1 3//1\n"),
+        5,
+        "normal index 2 out of range",
+    );
+}
+
+#[test]
+fn negative_texture_index_past_the_start_is_an_error_not_a_panic() {
+    // tobj 4.0.5 overflows on this in debug builds (ECOSYSTEM.md 1.4); our scan rejects it first.
+    assert_line(
+        &format!("{TRI}vt 0 0\nf 1/-5 2/1 3/1\n"),
+        5,
+        "texture index -5 out of range",
+    );
+}
+
+#[test]
+fn nan_or_infinite_coordinate_names_its_line() {
+    assert_line(
+        "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n",
+        2,
+        "NaN or infinite",
+    );
+    assert_line(
+        "v 0 0 0\nv 1 0 0\nv 0 inf 0\nf 1 2 3\n",
+        3,
+        "NaN or infinite",
+    );
+    assert_line(
+        "v 0 0 0\nv 1e39 0 0\nv 0 1 0\nf 1 2 3\n",
+        2,
+        "NaN or infinite",
+    );
+    assert_line(
+        "v 0 0 0\nv 1e30 0 0 1e-30\nv 0 1 0\nf 1 2 3\n",
+        2,
+        "infinite",
+    );
+    assert_line("v 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 1, "w is 0");
+}
+
+#[test]
+fn file_without_faces_is_an_error_naming_the_file() {
+    for text in ["", TRI, &format!("{TRI}l 1 2\np 1\n")] {
+        let e = error_of(text);
+        assert!(matches!(e, MeshError::NoFaces { .. }), "{e}");
+        assert!(e.to_string().starts_with("case.obj: no faces"), "{e}");
+    }
+}
+
+#[test]
+fn missing_file_is_an_error_naming_the_file() {
+    let e = load_obj(
+        Path::new("/nonexistent/dir/mesh.obj"),
+        &NormalOptions::default(),
+    )
+    .expect_err("missing file");
+    assert!(
+        e.to_string()
+            .starts_with("/nonexistent/dir/mesh.obj: cannot read"),
+        "{e}"
+    );
+}
+
+#[test]
+fn other_malformed_statements_name_their_line() {
+    assert_line(&format!("{TRI}s on\nf 1 2 3\n"), 4, "smoothing group");
+    assert_line(&format!("{TRI}usemtl\nf 1 2 3\n"), 4, "usemtl");
+    assert_line(&format!("{TRI}f\n"), 4, "no vertices");
+    assert_line(&format!("{TRI}f 1/1/1/1 2 3\n"), 4, "more than 3");
+}
+
+#[test]
+fn invalid_utf8_names_its_line() {
+    let dir = std::env::temp_dir().join(format!("phosphor-mesh-utf8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("bad.obj");
+    std::fs::write(&path, b"v 0 0 0\nv 1 0 0\nv 0 \xff 0\nf 1 2 3\n").expect("write");
+    let e = load_obj(&path, &NormalOptions::default()).expect_err("invalid UTF-8");
+    assert_eq!(e.line(), Some(3), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
