@@ -27,6 +27,10 @@ pub struct TriangleSoup {
     pub smoothing_groups: Option<Vec<u32>>,
     /// Per triangle material id (empty = all 0).
     pub material_ids: Vec<u32>,
+    /// Per triangle: the source polygon it was triangulated from (empty = each triangle is its
+    /// own polygon). Uniform weighting counts a polygon once per vertex, as the seeds count
+    /// faces, and triangles of one polygon are always smoothed together.
+    pub polygon_ids: Vec<u32>,
 }
 
 /// Union-find over triangles.
@@ -99,6 +103,11 @@ impl TriangleSoup {
             } else {
                 vec![0; keep.len()]
             },
+            polygon_ids: if self.polygon_ids.len() == t {
+                keep.iter().map(|&i| self.polygon_ids[i]).collect()
+            } else {
+                (0..keep.len() as u32).collect()
+            },
         }
     }
 
@@ -114,7 +123,14 @@ impl TriangleSoup {
         let groups = soup.smoothing_groups.clone().unwrap_or_else(|| vec![0; t]);
         let rule = SmoothRule::resolve(opts, soup.smoothing_groups.is_some());
         let faces = normals::face_data(&soup.positions, tris);
-        let surfaces = surface_ids(tris, &faces, &groups, &soup.material_ids, &rule);
+        let surfaces = surface_ids(
+            tris,
+            &faces,
+            &groups,
+            &soup.material_ids,
+            &soup.polygon_ids,
+            &rule,
+        );
 
         let authored = match (&soup.normals, opts.source) {
             (Some(n), NormalSource::Authored) => Some(n),
@@ -135,8 +151,11 @@ impl TriangleSoup {
                 &soup.positions,
                 tris,
                 &faces,
-                &groups,
-                &soup.material_ids,
+                &normals::FaceLabels {
+                    groups: &groups,
+                    materials: &soup.material_ids,
+                    polygons: &soup.polygon_ids,
+                },
                 opts.weighting,
                 &rule,
             ),
@@ -186,6 +205,7 @@ fn surface_ids(
     faces: &FaceData,
     groups: &[u32],
     materials: &[u32],
+    polygons: &[u32],
     rule: &SmoothRule,
 ) -> Vec<u32> {
     let mut edges: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
@@ -211,7 +231,7 @@ fn surface_ids(
                     (Some(na), Some(nb), Some(cos)) => na.dot(nb) >= cos - 1e-9,
                     _ => true,
                 };
-                if kind && angle_ok {
+                if (kind && angle_ok) || polygons[au] == polygons[bu] {
                     comp.union(a, b);
                 }
             }
@@ -269,6 +289,7 @@ impl Mesh {
             } else {
                 vec![0; t]
             },
+            polygon_ids: Vec::new(),
         }
     }
 

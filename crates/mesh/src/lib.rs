@@ -30,7 +30,26 @@
 //! Normals averaged from a UV sphere's welded positions (no authored normals, crease 180)
 //! against the exact radial normals, `cargo test -p phosphor-mesh --test normals_accuracy -- --nocapture`:
 //!
-//! MEASUREMENTS_PLACEHOLDER
+//! | tessellation | weighting | mean error | max error | max within 60 deg of equator |
+//! |---|---|---|---|---|
+//! | 64x32   | Uniform | 5.05e-4 rad | 1.64e-2 rad | 3.14e-6 rad |
+//! | 64x32   | Area    | 2.22e-3 rad | 2.45e-2 rad | 3.61e-3 rad |
+//! | 64x32   | Angle   | 9.26e-4 rad | 1.53e-3 rad | 1.27e-3 rad |
+//! | 128x64  | Uniform | 1.27e-4 rad | 8.18e-3 rad | 7.09e-7 rad |
+//! | 128x64  | Area    | 6.88e-4 rad | 1.23e-2 rad | 1.01e-3 rad |
+//! | 128x64  | Angle   | 2.38e-4 rad | 3.83e-4 rad | 3.29e-4 rad |
+//! | 512x256 | Uniform | 8.90e-6 rad | 2.05e-3 rad | 3.21e-6 rad |
+//! | 512x256 | Area    | 6.02e-5 rad | 3.07e-3 rad | 6.45e-5 rad |
+//! | 512x256 | Angle   | 1.52e-5 rad | 2.59e-5 rad | 2.21e-5 rad |
+//!
+//! Angle weighting is within 1e-3 rad everywhere from 128x64 on. Uniform and area weighting are
+//! within 1e-3 rad on average, but their maximum sits on the ring next to each pole, where the
+//! pole's fan triangles meet split quads (2 triangles above a vertex, 2 or 4 below) and the
+//! triangles are long and thin; that error halves with each doubling of the tessellation
+//! (first order), while elsewhere it is second order. The primitive grids alternate their
+//! diagonals (checkerboard) so every vertex sees a mirror-symmetric fan: with one diagonal
+//! everywhere, uniform weighting measured mean 2.7e-4 rad and 2e-4 rad away from the poles
+//! at 128x64 (against 1.3e-4 and 7e-7 now), max 4.9e-3 rad.
 
 pub mod build;
 pub mod error;

@@ -247,6 +247,7 @@ fn assemble(
                 vn_ix.push(t.map(|k| at(&m.normal_indices, vn_base, k)));
                 groups.push(info.group);
                 soup.material_ids.push(material);
+                soup.polygon_ids.push(face as u32);
             }
             start += arity;
             face += 1;

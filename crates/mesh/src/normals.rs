@@ -8,8 +8,14 @@
 //! face normals no larger than the crease angle (when one applies). Degenerate (zero-area) faces
 //! never contribute.
 //!
-//! Fallbacks, so no corner is ever NaN: where the weighted sum cancels (a two-sided sheet with
-//! the crease test off), the corner takes its own face normal; a corner of a degenerate face takes
+//! Uniform weighting counts each source polygon once per vertex (an OBJ quad split into two
+//! triangles is one face, as in the seeds); area and angle weights are per triangle (the angles
+//! of a polygon's triangles at a vertex add up to the polygon's angle). Triangles of one polygon
+//! are always smoothed together.
+//!
+//! Fallbacks, so no corner is ever NaN: where the weighted sum cancels or points away from the
+//! corner's own face (a two-sided sheet with the crease test off), the corner takes its own
+//! face normal; a corner of a degenerate face takes
 //! the average of the compatible faces around its position, else of all faces there, else +Z.
 
 use glam::{DVec3, Vec3};
@@ -234,16 +240,31 @@ impl CornersByPosition {
     }
 }
 
+/// Per-triangle labels that decide which faces are smoothed together.
+#[derive(Clone, Copy)]
+pub(crate) struct FaceLabels<'a> {
+    /// Smoothing group (0 = off).
+    pub groups: &'a [u32],
+    /// Material id.
+    pub materials: &'a [u32],
+    /// Source polygon id.
+    pub polygons: &'a [u32],
+}
+
 /// Computes one unit normal per corner (`tri * 3 + k`).
 pub(crate) fn corner_normals(
     positions: &[Vec3],
     tris: &[[u32; 3]],
     faces: &FaceData,
-    groups: &[u32],
-    materials: &[u32],
+    labels: &FaceLabels<'_>,
     weighting: Weighting,
     rule: &SmoothRule,
 ) -> Vec<Vec3> {
+    let FaceLabels {
+        groups,
+        materials,
+        polygons,
+    } = *labels;
     let by_pos = CornersByPosition::new(positions.len(), tris);
     let weight = |c: u32| -> f64 {
         let t = (c / 3) as usize;
@@ -266,6 +287,22 @@ pub(crate) fn corner_normals(
             let t = (c / 3) as usize;
             faces.normal[t].map(|n| (c, n, weight(c)))
         }));
+        if weighting == Weighting::Uniform {
+            // Count each source polygon once at this vertex (seeds: one N_k per face).
+            let poly = |c: u32| polygons[(c / 3) as usize];
+            let counts: Vec<f64> = around
+                .iter()
+                .map(|&(c, _, _)| {
+                    around
+                        .iter()
+                        .filter(|&&(c2, _, _)| poly(c2) == poly(c))
+                        .count() as f64
+                })
+                .collect();
+            for (entry, k) in around.iter_mut().zip(counts) {
+                entry.2 /= k;
+            }
+        }
         for &c in corners {
             let t = (c / 3) as usize;
             let (g, m) = (groups[t], materials[t]);
@@ -274,10 +311,11 @@ pub(crate) fn corner_normals(
             let mut total = 0.0;
             for &(c2, n2, w2) in &around {
                 let t2 = (c2 / 3) as usize;
-                if !rule.same_kind(g, groups[t2], m, materials[t2]) && t2 != t {
+                let same_polygon = polygons[t2] == polygons[t];
+                if !same_polygon && !rule.same_kind(g, groups[t2], m, materials[t2]) {
                     continue;
                 }
-                if let (Some(n), Some(cos)) = (own, rule.cos_crease) {
+                if let (false, Some(n), Some(cos)) = (same_polygon, own, rule.cos_crease) {
                     // Small tolerance so that exactly-at-threshold and coplanar faces merge.
                     if n.dot(n2) < cos - 1e-9 {
                         continue;
@@ -287,7 +325,9 @@ pub(crate) fn corner_normals(
                 total += w2.abs();
             }
             let len = sum.length();
-            let n = if len > 1e-9 * total && len > 0.0 {
+            // A corner never takes a normal facing away from its own face (two-sided sheets).
+            let facing = own.is_none_or(|n| n.dot(sum) > 0.0);
+            let n = if len > 1e-9 * total && len > 0.0 && facing {
                 Some(sum / len)
             } else {
                 own.or_else(|| {
