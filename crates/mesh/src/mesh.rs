@@ -136,6 +136,18 @@ impl Mesh {
             .map_or(0.0, |(_, a2)| a2)
     }
 
+    /// Fills `tangents`: from the uvs where there are any (see [`crate::tangents`]), otherwise
+    /// [`fallback_tangent`] of each normal (any unit vector perpendicular to it, `w = +1`).
+    pub fn ensure_tangents(&mut self) {
+        let tangents = match &self.uvs {
+            Some(uvs) => {
+                crate::tangents::compute(&self.positions, &self.normals, uvs, &self.indices)
+            }
+            None => self.normals.iter().map(|&n| fallback_tangent(n)).collect(),
+        };
+        self.tangents = Some(tangents);
+    }
+
     /// True when every invariant in the type docs holds (lengths, index ranges, unit finite
     /// normals and tangents). Used by the tests; cheap enough for debug assertions.
     #[must_use]
@@ -174,4 +186,56 @@ pub fn fallback_tangent(n: Vec3) -> Vec4 {
     let b = n.x * n.y * a;
     let t = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
     phosphor_math::safe_normalize(t, Vec3::X).extend(1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn fallback_tangent_is_unit_and_perpendicular(x in -1.0f32..1.0, y in -1.0f32..1.0, z in -1.0f32..1.0) {
+            let n = Vec3::new(x, y, z);
+            prop_assume!(n.length() > 1e-3);
+            let n = n.normalize();
+            let t = fallback_tangent(n);
+            prop_assert!((t.truncate().length() - 1.0).abs() < 1e-5);
+            prop_assert!(t.truncate().dot(n).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn fallback_tangent_handles_poles_and_garbage() {
+        for n in [Vec3::Z, Vec3::NEG_Z, Vec3::X, Vec3::ZERO, Vec3::NAN] {
+            let t = fallback_tangent(n);
+            assert!(t.is_finite() && (t.truncate().length() - 1.0).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn ensure_tangents_without_uvs_uses_the_fallback() {
+        let mut m = crate::primitives::cube(1.0);
+        m.uvs = None;
+        m.ensure_tangents();
+        assert!(m.is_consistent());
+        let ts = m.tangents.as_ref().expect("filled");
+        assert!(
+            ts.iter()
+                .zip(&m.normals)
+                .all(|(t, n)| t.truncate().dot(*n).abs() < 1e-6)
+        );
+    }
+
+    #[test]
+    fn normalize_unit_leaves_a_single_point_finite() {
+        let mut m = Mesh {
+            positions: vec![Vec3::splat(5.0); 3],
+            normals: vec![Vec3::Z; 3],
+            indices: vec![[0, 1, 2]],
+            ..Mesh::default()
+        };
+        m.normalize_unit();
+        assert!(m.positions.iter().all(|p| *p == Vec3::ZERO));
+    }
 }
