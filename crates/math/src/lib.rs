@@ -102,7 +102,10 @@ pub fn reflect_f64(n: DVec3, l: DVec3) -> DVec3 {
 /// perfect reflector).
 #[inline]
 #[must_use]
-#[allow(clippy::manual_clamp, reason = "clamp() propagates NaN; max/min map it to 0")]
+#[allow(
+    clippy::manual_clamp,
+    reason = "clamp() propagates NaN; max/min map it to 0"
+)]
 pub fn clamped_pow(base: f32, exponent: f32) -> f32 {
     // `f32::clamp` propagates NaN; `max`/`min` replace it, which is what we want here.
     let b = base.max(0.0).min(1.0);
@@ -120,7 +123,10 @@ pub fn clamped_pow(base: f32, exponent: f32) -> f32 {
 /// Double-precision [`clamped_pow`], same contract.
 #[inline]
 #[must_use]
-#[allow(clippy::manual_clamp, reason = "clamp() propagates NaN; max/min map it to 0")]
+#[allow(
+    clippy::manual_clamp,
+    reason = "clamp() propagates NaN; max/min map it to 0"
+)]
 pub fn clamped_pow_f64(base: f64, exponent: f64) -> f64 {
     let b = base.max(0.0).min(1.0);
     let e = exponent.max(0.0);
@@ -199,14 +205,21 @@ mod tests {
     fn safe_normalize_handles_huge_vectors_without_overflow() {
         let v = Vec3::new(1e30, 1e30, 0.0);
         let n = safe_normalize(v, Vec3::Z);
-        assert!(approx(n, Vec3::new(1.0, 1.0, 0.0).normalize(), EPS), "{n:?}");
+        assert!(
+            approx(n, Vec3::new(1.0, 1.0, 0.0).normalize(), EPS),
+            "{n:?}"
+        );
         let m = safe_normalize(Vec3::splat(f32::MAX), Vec3::Z);
         assert!(approx(m, Vec3::splat(1.0 / 3f32.sqrt()), EPS), "{m:?}");
     }
 
     #[test]
     fn safe_normalize_gives_unit_length_for_ordinary_vectors() {
-        for v in [Vec3::X * 3.0, Vec3::new(1e-10, 2e-10, 0.0), Vec3::new(-4.0, 3.0, 12.0)] {
+        for v in [
+            Vec3::X * 3.0,
+            Vec3::new(1e-10, 2e-10, 0.0),
+            Vec3::new(-4.0, 3.0, 12.0),
+        ] {
             let n = safe_normalize(v, Vec3::Z);
             assert!((n.length() - 1.0).abs() < EPS, "{v:?} -> {n:?}");
             assert!(n.dot(v) > 0.0);
@@ -216,7 +229,10 @@ mod tests {
     #[test]
     fn safe_normalize_f64_matches_f32_contract() {
         assert_eq!(safe_normalize_f64(DVec3::ZERO, DVec3::Y), DVec3::Y);
-        assert_eq!(safe_normalize_f64(DVec3::new(f64::NAN, 0.0, 0.0), DVec3::Y), DVec3::Y);
+        assert_eq!(
+            safe_normalize_f64(DVec3::new(f64::NAN, 0.0, 0.0), DVec3::Y),
+            DVec3::Y
+        );
         let n = safe_normalize_f64(DVec3::new(1e200, 1e200, 0.0), DVec3::Y);
         assert!((n.length() - 1.0).abs() < 1e-12);
         let m = safe_normalize_f64(DVec3::new(0.0, 3.0, 4.0), DVec3::Y);
@@ -227,7 +243,11 @@ mod tests {
     fn reflect_mirrors_about_the_normal() {
         let n = Vec3::Y;
         let l = Vec3::new(1.0, 1.0, 0.0).normalize();
-        assert!(approx(reflect(n, l), Vec3::new(-1.0, 1.0, 0.0).normalize(), EPS));
+        assert!(approx(
+            reflect(n, l),
+            Vec3::new(-1.0, 1.0, 0.0).normalize(),
+            EPS
+        ));
         // Light straight along the normal reflects onto itself.
         assert!(approx(reflect(n, n), n, EPS));
         // Exactly opposite vectors: L = -N reflects to -N (R = -2N + N); finite.
@@ -260,7 +280,11 @@ mod tests {
 
     #[test]
     fn barycentric_reconstructs_the_point_and_rejects_degenerate_triangles() {
-        let (a, b, c) = (Vec2::new(0.0, 0.0), Vec2::new(4.0, 0.0), Vec2::new(0.0, 4.0));
+        let (a, b, c) = (
+            Vec2::new(0.0, 0.0),
+            Vec2::new(4.0, 0.0),
+            Vec2::new(0.0, 4.0),
+        );
         let p = Vec2::new(1.0, 2.0);
         let w = barycentric(p, a, b, c).expect("non-degenerate");
         let q = w.x * a + w.y * b + w.z * c;

@@ -53,6 +53,25 @@ fn pool(threads: usize) -> Option<Arc<rayon::ThreadPool>> {
     Some(p)
 }
 
+/// Maps `f` over `items` in chunks of `chunk`, in parallel on the cached pool when `threads`
+/// asks for more than one, and returns the results in input order (so set-up is deterministic).
+pub fn map_chunks<I: Sync, T: Send>(
+    threads: usize,
+    items: &[I],
+    chunk: usize,
+    f: impl Fn(&[I]) -> T + Sync + Send,
+) -> Vec<T> {
+    let threads = effective_threads(threads);
+    let chunk = chunk.max(1);
+    match (threads > 1 && items.len() > chunk)
+        .then(|| pool(threads))
+        .flatten()
+    {
+        Some(p) => p.install(|| items.par_chunks(chunk).map(&f).collect()),
+        None => items.chunks(chunk).map(f).collect(),
+    }
+}
+
 /// Draws `tris` with `mode` into `fb` over bands; returns the pixels shaded.
 pub fn draw_bands<M: Mode>(
     fb: &mut Framebuffer,

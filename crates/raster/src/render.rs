@@ -4,8 +4,8 @@
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use phosphor_lighting::Effects;
 
-use crate::bands::{Prepared, draw_bands};
-use crate::clip::{ClipVertex, clip_triangle, guard_band};
+use crate::bands::{Prepared, draw_bands, map_chunks};
+use crate::clip::{Attrs, ClipVertex, clip_triangle, guard_band};
 use crate::framebuffer::{Framebuffer, RasterError};
 use crate::setup::{setup, to_screen};
 use crate::shade::fast_phong::FastPhong;
@@ -138,7 +138,7 @@ fn shade_draw(
 }
 
 /// The vertex stage: world position, normal (inverse-transpose), uv and tangent per vertex.
-fn vertex_stage(d: &DrawItem, vp: Mat4) -> Vec<(Vec4, VertexIn)> {
+fn vertex_stage(d: &DrawItem, vp: Mat4, threads: usize) -> Vec<(Vec4, VertexIn)> {
     let m3 = Mat3::from_mat4(d.model);
     let normal_matrix = {
         let nm = m3.inverse().transpose();
@@ -146,37 +146,48 @@ fn vertex_stage(d: &DrawItem, vp: Mat4) -> Vec<(Vec4, VertexIn)> {
     };
     let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
     let mesh = &d.mesh;
-    (0..mesh.positions.len())
-        .map(|i| {
-            let world = d.model.transform_point3(mesh.positions[i]);
-            let normal = mesh
-                .normals
-                .get(i)
-                .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
-            let uv = mesh
-                .uvs
-                .and_then(|u| u.get(i).copied())
-                .unwrap_or(Vec2::ZERO);
-            let tangent = mesh
-                .tangents
-                .and_then(|t| t.get(i).copied())
-                .map_or(Vec4::ZERO, |t| {
-                    (m3 * t.truncate()).normalize_or_zero().extend(t.w * flip)
-                });
-            (
-                vp * world.extend(1.0),
-                VertexIn {
-                    world,
-                    normal,
-                    uv,
-                    tangent,
-                },
-            )
-        })
-        .collect()
+    let ids: Vec<usize> = (0..mesh.positions.len()).collect();
+    let chunks = map_chunks(threads, &ids, 4096, |ids| {
+        ids.iter()
+            .map(|&i| {
+                let world = d.model.transform_point3(mesh.positions[i]);
+                let normal = mesh
+                    .normals
+                    .get(i)
+                    .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
+                let uv = mesh
+                    .uvs
+                    .and_then(|u| u.get(i).copied())
+                    .unwrap_or(Vec2::ZERO);
+                let tangent = mesh
+                    .tangents
+                    .and_then(|t| t.get(i).copied())
+                    .map_or(Vec4::ZERO, |t| {
+                        (m3 * t.truncate()).normalize_or_zero().extend(t.w * flip)
+                    });
+                (
+                    vp * world.extend(1.0),
+                    VertexIn {
+                        world,
+                        normal,
+                        uv,
+                        tangent,
+                    },
+                )
+            })
+            .collect::<Vec<_>>()
+    });
+    chunks.concat()
 }
 
-/// Runs mode `M` over one draw: vertex stage, clip, set-up, bands.
+/// Set-up results of one chunk of triangles.
+struct ChunkSetup<T> {
+    prepared: Vec<Prepared<T>>,
+    drawn: u64,
+    fallbacks: u64,
+}
+
+/// Runs mode `M` over one draw: vertex stage, clip, set-up (in parallel, in order), bands.
 fn run<M: Mode>(
     fb: &mut Framebuffer,
     vp: Mat4,
@@ -187,51 +198,62 @@ fn run<M: Mode>(
     count: bool,
 ) {
     let (w, h) = (fb.width(), fb.height());
-    let verts = vertex_stage(d, vp);
-    let attrs: Vec<_> = verts.iter().map(|(_, v)| mode.vertex(v)).collect();
+    let verts = vertex_stage(d, vp, opts.threads);
+    let attrs: Vec<Attrs> = verts.iter().map(|(_, v)| mode.vertex(v)).collect();
     let guard = guard_band(w, h);
-    let mut prepared = Vec::with_capacity(d.mesh.indices.len());
-    for idx in d.mesh.indices {
-        stats.triangles_in += 1;
-        if idx.iter().any(|&i| i as usize >= verts.len()) {
-            continue;
-        }
-        let ids = *idx;
-        let src = ids.map(|i| verts[i as usize].1);
-        let tri = ids.map(|i| ClipVertex {
-            pos: verts[i as usize].0,
-            attrs: attrs[i as usize],
-        });
-        if !tri.iter().all(|v| v.pos.is_finite()) {
-            continue;
-        }
-        let poly = clip_triangle(&tri, M::ATTRS, guard);
-        let pv = poly.vertices();
-        let mut screen = [None; crate::clip::MAX_POLY];
-        for (s, v) in screen.iter_mut().zip(pv) {
-            *s = to_screen(v, w, h, M::ATTRS, opts.perspective_correct);
-        }
-        let mut drawn = false;
-        for k in 1..pv.len().saturating_sub(1) {
-            let (Some(a), Some(b), Some(c)) = (screen[0], screen[k], screen[k + 1]) else {
+    let chunks = map_chunks(opts.threads, d.mesh.indices, 1024, |indices| {
+        let mut out = ChunkSetup {
+            prepared: Vec::with_capacity(indices.len()),
+            drawn: 0,
+            fallbacks: 0,
+        };
+        for idx in indices {
+            if idx.iter().any(|&i| i as usize >= verts.len()) {
                 continue;
-            };
-            let Some(geom) = setup(
-                [a, b, c],
-                M::ATTRS,
-                opts.perspective_correct,
-                opts.cull_backfaces,
-            ) else {
-                continue;
-            };
-            let tri = mode.triangle(&src, &geom);
-            if M::is_fallback(&tri) {
-                stats.fallbacks += 1;
             }
-            prepared.push(Prepared { geom, tri });
-            drawn = true;
+            let src = idx.map(|i| verts[i as usize].1);
+            let tri = idx.map(|i| ClipVertex {
+                pos: verts[i as usize].0,
+                attrs: attrs[i as usize],
+            });
+            if !tri.iter().all(|v| v.pos.is_finite()) {
+                continue;
+            }
+            let poly = clip_triangle(&tri, M::ATTRS, guard);
+            let pv = poly.vertices();
+            let mut screen = [None; crate::clip::MAX_POLY];
+            for (s, v) in screen.iter_mut().zip(pv) {
+                *s = to_screen(v, w, h, M::ATTRS, opts.perspective_correct);
+            }
+            let mut drawn = false;
+            // The clipped polygon is convex: a fan keeps the winding.
+            for k in 1..pv.len().saturating_sub(1) {
+                let (Some(a), Some(b), Some(c)) = (screen[0], screen[k], screen[k + 1]) else {
+                    continue;
+                };
+                let Some(geom) = setup(
+                    [a, b, c],
+                    M::ATTRS,
+                    opts.perspective_correct,
+                    opts.cull_backfaces,
+                ) else {
+                    continue;
+                };
+                let tri = mode.triangle(&src, &geom);
+                out.fallbacks += u64::from(M::is_fallback(&tri));
+                out.prepared.push(Prepared { geom, tri });
+                drawn = true;
+            }
+            out.drawn += u64::from(drawn);
         }
-        stats.triangles_drawn += u64::from(drawn);
+        out
+    });
+    stats.triangles_in += d.mesh.indices.len() as u64;
+    let mut prepared = Vec::with_capacity(chunks.iter().map(|c| c.prepared.len()).sum());
+    for c in chunks {
+        stats.triangles_drawn += c.drawn;
+        stats.fallbacks += c.fallbacks;
+        prepared.extend(c.prepared);
     }
     stats.pixels_shaded += draw_bands(fb, mode, &prepared, opts.threads, count);
 }

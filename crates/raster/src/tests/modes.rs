@@ -137,6 +137,33 @@ fn fast_phong_matches_phong_on_the_sphere_within_its_bound() {
     assert!(worst <= 4.0 * ONE_CODE, "worst {worst}");
     assert!(rmse <= 0.002, "rmse {rmse}");
     assert!(share >= 0.999);
+    // A coarse sphere: big triangles, spread normals, the fallback at work.
+    let coarse = uv_sphere(1.0, 32, 20);
+    let (fast, stats) = draw_image(
+        320,
+        240,
+        &cam,
+        &[item(&coarse, &mat, &set, ShadingMode::FastPhong)],
+        &opts,
+    );
+    let (phong, _) = draw_image(
+        320,
+        240,
+        &cam,
+        &[item(&coarse, &mat, &set, ShadingMode::Phong)],
+        &opts,
+    );
+    let d = diffs(&fast, &phong);
+    let worst = d.iter().fold(0.0f32, |a, b| a.max(*b));
+    let rmse = (d.iter().map(|x| (x * x) as f64).sum::<f64>() / d.len() as f64).sqrt();
+    println!(
+        "coarse sphere: max {:.2} codes, rmse {rmse:.6}, fallbacks {} of {} pieces",
+        worst * 255.0,
+        stats.fallbacks,
+        stats.triangles_drawn
+    );
+    assert!(stats.fallbacks > 0);
+    assert!(worst <= 4.0 * ONE_CODE, "worst {worst}");
 }
 
 #[test]
@@ -371,6 +398,62 @@ fn bump_mapping_perturbs_phong_and_reference_alike_and_flat_ignores_it() {
 }
 
 #[test]
+fn huge_and_camera_surrounding_triangles_are_guard_band_clipped_and_fill_the_view() {
+    let set = LightSet::new(Vec3::splat(0.5), &[]);
+    let mat = Material::s1();
+    let cam = Camera::s1();
+    for (positions, label) in [
+        // Far beyond the fixed-point range on screen, in front of the camera.
+        (
+            vec![
+                Vec3::new(-1e6, -1e6, 0.0),
+                Vec3::new(1e6, -1e6, 0.0),
+                Vec3::new(0.0, 1e6, 0.0),
+            ],
+            "huge",
+        ),
+        // Around the camera: two vertices behind it, one in front; the plane fills the view.
+        (
+            vec![
+                // Plane z = -y / 10: it crosses the view axis 3 units ahead of the eye and
+                // covers the whole frustum, well inside the far plane.
+                Vec3::new(-50.0, -50.0, 5.0),
+                Vec3::new(50.0, -50.0, 5.0),
+                Vec3::new(0.0, 50.0, -5.0),
+            ],
+            "surrounding",
+        ),
+    ] {
+        let mesh = TestMesh {
+            positions,
+            normals: vec![Vec3::Z; 3],
+            indices: vec![[0, 1, 2]],
+            ..TestMesh::default()
+        };
+        for mode in [
+            ShadingMode::Flat,
+            ShadingMode::Phong,
+            ShadingMode::Reference,
+        ] {
+            let (fb, stats) = draw_image(
+                64,
+                48,
+                &cam,
+                &[item(&mesh, &mat, &set, mode)],
+                &RenderOptions::default(),
+            );
+            assert_eq!(stats.pixels_shaded, 64 * 48, "{label} {mode}");
+            assert!(
+                fb.color()
+                    .iter()
+                    .all(|c| (*c - Vec3::splat(0.05)).abs().max_element() < 1e-5),
+                "{label} {mode}"
+            );
+        }
+    }
+}
+
+#[test]
 fn bad_input_never_panics_nor_writes_nan() {
     let mesh = TestMesh {
         positions: vec![Vec3::ZERO, Vec3::X, Vec3::NAN, Vec3::Y, Vec3::splat(1e30)],
@@ -445,4 +528,45 @@ fn docs_modes_side_by_side() {
         }
     }
     maybe_write_doc(&strip, "raster-modes.png");
+}
+
+#[test]
+#[ignore = "timing report, run with --ignored --nocapture"]
+fn timing_sphere_1080p_per_mode() {
+    let (sphere, set, mat) = (uv_sphere(1.0, 256, 140), s1_lights(), Material::s1());
+    let cam = Camera::s1();
+    let mut fb = crate::Framebuffer::new(1920, 1080).unwrap();
+    for threads in [1, 2] {
+        let opts = RenderOptions {
+            threads,
+            ..RenderOptions::default()
+        };
+        for mode in [
+            ShadingMode::Flat,
+            ShadingMode::Gouraud,
+            ShadingMode::Phong,
+            ShadingMode::FastPhong,
+        ] {
+            let d = [item(&sphere, &mat, &set, mode)];
+            crate::render(&mut fb, &cam, &d, &opts);
+            let t = std::time::Instant::now();
+            let frames = 5;
+            let mut stats = crate::RenderStats::default();
+            for _ in 0..frames {
+                stats = crate::render(&mut fb, &cam, &d, &opts);
+            }
+            let ms = t.elapsed().as_secs_f64() * 1e3 / frames as f64;
+            println!(
+                "{mode} threads={threads} {ms:.2} ms/frame ({} tris, {} px, {} fallbacks)",
+                stats.triangles_in, stats.pixels_shaded, stats.fallbacks
+            );
+        }
+        let d = [item(&sphere, &mat, &set, ShadingMode::Flat)];
+        let t = std::time::Instant::now();
+        crate::render_fill_only(&mut fb, &cam, &d, &opts);
+        println!(
+            "fill-only threads={threads} {:.2} ms",
+            t.elapsed().as_secs_f64() * 1e3
+        );
+    }
 }
