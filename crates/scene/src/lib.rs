@@ -1,1 +1,246 @@
-//! The hecs world, scene files and the frame plan (being built).
+//! `phosphor-scene`: the ECS of Phosphor. A [hecs] `World` holds the objects (mesh, material,
+//! transform, optional bump map and shading override), the lights and the camera; scene files
+//! (TOML) load into it and save from it; the frame plan decides per object which effects to
+//! simulate, which lights reach it and how to shade it; the render system hands plain draw
+//! data to `phosphor-raster`.
+//!
+//! Systems are free functions over the scene ([`plan::plan_frame`], [`render::render_frame`]);
+//! there is no global state.
+//!
+//! ```
+//! use phosphor_raster::Framebuffer;
+//! use phosphor_scene::{FrameOptions, Scene, render_frame};
+//!
+//! let scene = Scene::parse(
+//!     r#"
+//!     [ambient]
+//!     intensity = [1, 1, 1]
+//!     [[lights]]
+//!     type = "directional"
+//!     direction = [0, 0, -1]
+//!     intensity = [1.0, 0.9, 0.8]
+//!     [materials.matte]
+//!     ka = 0.1
+//!     kd = [0.8, 0.6, 0.4]
+//!     [[objects]]
+//!     name = "ball"
+//!     primitive = { shape = "sphere", radius = 1.0, segments = 32, rings = 16 }
+//!     material = "matte"
+//!     "#,
+//!     "ball.toml",
+//! )?;
+//! let mut fb = Framebuffer::new(64, 48)?;
+//! let report = render_frame(&scene, &mut fb, &FrameOptions::default());
+//! assert_eq!(report.plan.objects.len(), 1);
+//! // A matte sphere under a distant light: `auto` needs no specular term.
+//! assert!(!report.plan.objects[0].effects.contains(phosphor_lighting::Effects::SPECULAR));
+//! assert!(fb.pixel(32, 24).x > 0.5);
+//!
+//! // Errors name the file and the field.
+//! let err = Scene::parse("[camera]\nnear = -1\n", "bad.toml").unwrap_err();
+//! assert_eq!(err.to_string(), "bad.toml: camera.near: must be > 0, got -1");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Scene files follow DESIGN.md's format; see `assets/scenes/default.toml` for every field.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use hecs::{Entity, World};
+use phosphor_lighting::Light;
+use phosphor_raster::{Camera, Encoding};
+
+pub mod builtin;
+pub mod components;
+pub mod error;
+pub mod file;
+pub mod plan;
+pub mod render;
+
+pub use components::{
+    Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, Primitive,
+    SceneMesh, Shading, ShadingChoice, Transform,
+};
+pub use error::SceneError;
+pub use file::load::{Disk, Files, load_scene, parse_scene};
+pub use file::save::{save_scene, scene_to_toml};
+pub use plan::{AUTO_TOLERANCE, AutoInput, FrameOptions, FramePlan, PlannedObject, plan_frame};
+pub use render::{FrameReport, draw_items, raster_options, render_frame};
+
+/// Largest accepted image side, in pixels.
+pub const MAX_SIDE: u32 = 16_384;
+
+/// The `[render]` table: output size and frame-wide choices.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RenderSettings {
+    /// Width in pixels (default 1280).
+    pub width: u32,
+    /// Height in pixels (default 720).
+    pub height: u32,
+    /// Default shading of every object (`auto` unless set).
+    pub shading: ShadingChoice,
+    /// PNG encoding (sRGB unless set).
+    pub encoding: Encoding,
+    /// Clear colour (black unless set).
+    pub background: Vec3,
+    /// Perspective-correct interpolation (on unless set).
+    pub perspective_correct: bool,
+    /// Skip back faces (off unless set: S1 draws both sides).
+    pub cull_backfaces: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        RenderSettings {
+            width: 1280,
+            height: 720,
+            shading: ShadingChoice::Auto,
+            encoding: Encoding::Srgb,
+            background: Vec3::ZERO,
+            perspective_correct: true,
+            cull_backfaces: false,
+        }
+    }
+}
+
+/// A scene: the world and the few plain resources beside it.
+pub struct Scene {
+    /// Entities: objects, lights, the camera.
+    pub world: World,
+    /// The `[render]` table.
+    pub settings: RenderSettings,
+    /// Ambient intensity `Ia`.
+    pub ambient: Vec3,
+    /// The material table, by name (objects hold copies; kept for saving and the viewer).
+    pub materials: BTreeMap<String, MaterialDef>,
+    /// The file it was loaded from, if any.
+    pub source: Option<PathBuf>,
+    /// Warnings from loading (missing MTL, ignored bump maps), each a `warning: ...` line.
+    pub warnings: Vec<String>,
+}
+
+impl std::fmt::Debug for Scene {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Scene")
+            .field("entities", &self.world.len())
+            .field("settings", &self.settings)
+            .field("ambient", &self.ambient)
+            .field("source", &self.source)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Scene {
+    /// An empty scene: no camera (S1's is used), no lights, no objects.
+    #[must_use]
+    pub fn empty() -> Scene {
+        Scene {
+            world: World::new(),
+            settings: RenderSettings::default(),
+            ambient: Vec3::ZERO,
+            materials: BTreeMap::new(),
+            source: None,
+            warnings: Vec::new(),
+        }
+    }
+
+    /// Parses scene text; `file` names it in messages and relative paths resolve against the
+    /// current folder.
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the file and field.
+    pub fn parse(text: &str, file: &str) -> Result<Scene, SceneError> {
+        parse_scene(text, file, Path::new(""), &Disk)
+    }
+
+    /// Loads a scene file (paths inside relative to it).
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the file and field (and the OBJ line for meshes).
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        load_scene(path)
+    }
+
+    /// The camera: the first camera entity, or S1's.
+    #[must_use]
+    pub fn camera(&self) -> Camera {
+        let mut cams: Vec<(Entity, Camera)> = self
+            .world
+            .query::<(Entity, &Camera)>()
+            .iter()
+            .map(|(e, c)| (e, *c))
+            .collect();
+        cams.sort_by_key(|(e, _)| e.id());
+        cams.first().map_or(Camera::s1(), |(_, c)| *c)
+    }
+
+    /// Replaces the camera (creating the entity if there is none).
+    pub fn set_camera(&mut self, camera: Camera) {
+        let q = self.world.query_mut::<&mut Camera>();
+        if let Some(c) = q.into_iter().next() {
+            *c = camera;
+            return;
+        }
+        self.world.spawn((camera,));
+    }
+
+    /// The lights with their names, in scene order.
+    #[must_use]
+    pub fn lights(&self) -> Vec<(String, Light)> {
+        let mut v: Vec<(Entity, String, Light)> = self
+            .world
+            .query::<(Entity, &Name, &Light)>()
+            .iter()
+            .map(|(e, n, l)| (e, n.0.clone(), *l))
+            .collect();
+        v.sort_by_key(|(e, _, _)| e.id());
+        v.into_iter().map(|(_, n, l)| (n, l)).collect()
+    }
+
+    /// The light entities, in scene order.
+    #[must_use]
+    pub fn light_entities(&self) -> Vec<Entity> {
+        let mut v: Vec<Entity> = self
+            .world
+            .query::<(Entity, &Light)>()
+            .iter()
+            .map(|(e, _)| e)
+            .collect();
+        v.sort_by_key(|e| e.id());
+        v
+    }
+
+    /// Number of lights.
+    #[must_use]
+    pub fn light_count(&self) -> usize {
+        self.world.query::<&Light>().iter().count()
+    }
+
+    /// The object entities (those with a mesh), in scene order.
+    #[must_use]
+    pub fn objects(&self) -> Vec<Entity> {
+        let mut v: Vec<Entity> = self
+            .world
+            .query::<(Entity, &MeshRef)>()
+            .iter()
+            .map(|(e, _)| e)
+            .collect();
+        v.sort_by_key(|e| e.id());
+        v
+    }
+
+    /// Triangles over all objects.
+    #[must_use]
+    pub fn triangle_count(&self) -> usize {
+        self.world
+            .query::<&MeshRef>()
+            .iter()
+            .map(|m| m.0.mesh.indices.len())
+            .sum()
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,134 @@
+//! The scenes that ship inside the binary: the default scene (so the viewer and the CLI run
+//! with no arguments) and the standard scene S1 around any mesh.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use phosphor_lighting::{Light, Material};
+use phosphor_mesh::NormalOptions;
+use phosphor_raster::{Camera, Encoding};
+
+use crate::components::{
+    MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, SceneMesh, Transform,
+};
+use crate::error::SceneError;
+use crate::file::load::{Files, parse_scene};
+use crate::{RenderSettings, Scene};
+
+/// The default scene's text (`assets/scenes/default.toml`).
+pub const DEFAULT_SCENE_TOML: &str = include_str!("../../../assets/scenes/default.toml");
+/// The standard scene S1's text (`assets/scenes/s1.toml`).
+pub const S1_TOML: &str = include_str!("../../../assets/scenes/s1.toml");
+
+/// The meshes the default scene names, embedded.
+const EMBEDDED: &[(&str, &str)] = &[
+    (
+        "meshes/fandisk.obj",
+        include_str!("../../../assets/meshes/fandisk.obj"),
+    ),
+    (
+        "meshes/teapot.obj",
+        include_str!("../../../assets/meshes/teapot.obj"),
+    ),
+];
+
+/// Files served from the binary (by the end of their path), for the default scene.
+struct Embedded;
+
+impl Files for Embedded {
+    fn read_text(&self, path: &Path) -> std::io::Result<String> {
+        let p = path.to_string_lossy().replace('\\', "/");
+        EMBEDDED
+            .iter()
+            .find(|(name, _)| p.ends_with(name))
+            .map(|(_, text)| (*text).to_owned())
+            .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::NotFound, "not embedded"))
+    }
+    fn exists(&self, path: &Path) -> bool {
+        self.read_text(path).is_ok()
+    }
+}
+
+impl Scene {
+    /// The embedded default scene: several objects and materials (a CAD mesh with creases, a
+    /// shiny teapot, a bump-mapped sphere, a Fresnel torus, a matte floor), coloured point,
+    /// spot, tube and directional lights, shading `auto`.
+    ///
+    /// # Errors
+    /// Only if the embedded text is broken (a test guards it).
+    pub fn default_scene() -> Result<Scene, SceneError> {
+        let mut s = parse_scene(
+            DEFAULT_SCENE_TOML,
+            "default.toml (embedded)",
+            Path::new("assets/scenes"),
+            &Embedded,
+        )?;
+        s.source = None;
+        Ok(s)
+    }
+
+    /// The standard scene S1 (DESIGN.md) around the OBJ mesh at `path`: normalized, normals
+    /// averaged over every face sharing a position unless the file has `vn` or `s` lines,
+    /// three attenuated point lights, linear encoding.
+    ///
+    /// # Errors
+    /// The mesh's error (file and line).
+    pub fn s1_with_mesh(path: &Path) -> Result<Scene, SceneError> {
+        let normals = NormalOptions::s1();
+        let (mut mesh, warnings) =
+            phosphor_mesh::load_obj_with_warnings(path, &normals).map_err(|source| {
+                SceneError::Mesh {
+                    file: "S1".to_owned(),
+                    field: "--mesh".to_owned(),
+                    source,
+                }
+            })?;
+        mesh.normalize_unit();
+        let info = MeshInfo::of(&mesh);
+        let mesh = SceneMesh {
+            mesh,
+            source: MeshSource::File {
+                written: path.display().to_string(),
+                resolved: PathBuf::from(path),
+            },
+            normals,
+            normalized: true,
+            info,
+        };
+        Ok(Scene::s1_around(mesh, warnings))
+    }
+
+    /// S1 around an already built mesh (used by [`Scene::s1_with_mesh`] and for primitives).
+    #[must_use]
+    pub fn s1_around(mesh: SceneMesh, warnings: Vec<String>) -> Scene {
+        let mut s = Scene::empty();
+        s.settings = RenderSettings {
+            encoding: Encoding::Linear,
+            ..RenderSettings::default()
+        };
+        s.ambient = glam::Vec3::ONE;
+        s.world.spawn((Camera::s1(),));
+        for (i, l) in Light::s1_lights().into_iter().enumerate() {
+            s.world.spawn((Name(format!("s1 light {}", i + 1)), l));
+        }
+        s.materials.insert(
+            "s1".to_owned(),
+            MaterialDef {
+                material: Material::s1(),
+                bump: None,
+            },
+        );
+        s.world.spawn((
+            Name("mesh".to_owned()),
+            Transform::default(),
+            MeshRef(Arc::new(mesh)),
+            Material::s1(),
+            MaterialName("s1".to_owned()),
+        ));
+        s.warnings = warnings
+            .into_iter()
+            .map(|w| format!("warning: {w}"))
+            .collect();
+        s
+    }
+}

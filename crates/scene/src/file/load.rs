@@ -1,0 +1,765 @@
+//! Scene files (TOML) to a [`Scene`]: every field checked, every error naming its field.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::Vec3;
+use phosphor_lighting::{Attenuation, Fresnel, Light, LightKind, Material, SpecularModel};
+use phosphor_mesh::{NormalOptions, NormalSource, Weighting};
+use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump};
+
+use super::read::{Fields, choose};
+use crate::components::{
+    Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, Primitive,
+    SceneMesh, Shading, ShadingChoice, Transform,
+};
+use crate::error::SceneError;
+use crate::{RenderSettings, Scene};
+
+/// Reads the files a scene names (meshes, MTL, bump images): the disk, or embedded text.
+pub trait Files {
+    /// The text of `path`, or the I/O error.
+    fn read_text(&self, path: &Path) -> std::io::Result<String>;
+    /// Whether `path` exists (used for bump images, which the image crate reads itself).
+    fn exists(&self, path: &Path) -> bool;
+}
+
+/// The file system.
+pub struct Disk;
+
+impl Files for Disk {
+    fn read_text(&self, path: &Path) -> std::io::Result<String> {
+        std::fs::read_to_string(path)
+    }
+    fn exists(&self, path: &Path) -> bool {
+        path.exists()
+    }
+}
+
+const TOP: &[&str] = &[
+    "render",
+    "camera",
+    "ambient",
+    "lights",
+    "materials",
+    "objects",
+];
+
+/// Parses scene text. `file` names it in messages; relative paths resolve against `dir`.
+pub fn parse_scene(
+    text: &str,
+    file: &str,
+    dir: &Path,
+    files: &dyn Files,
+) -> Result<Scene, SceneError> {
+    let table: toml::Table = toml::from_str(text).map_err(|e| SceneError::Syntax {
+        file: file.to_owned(),
+        line: e.span().map_or(1, |s| {
+            text[..s.start.min(text.len())].matches('\n').count() + 1
+        }),
+        what: e.message().trim().replace('\n', " "),
+    })?;
+    let root = Fields::root(file, &table);
+    let mut scene = Scene::empty();
+    scene.source = Some(dir.join(file.rsplit('/').next().unwrap_or(file)));
+    if let Some(r) = root.table("render")? {
+        scene.settings = render_settings(&r)?;
+    }
+    let camera = match root.table("camera")? {
+        Some(c) => camera(&c)?,
+        None => Camera::s1(),
+    };
+    scene.world.spawn((camera,));
+    if let Some(a) = root.table("ambient")? {
+        scene.ambient = a.color("intensity")?.unwrap_or(Vec3::ZERO);
+        a.finish(&["intensity"])?;
+    }
+    for l in root.tables("lights")? {
+        let name = l
+            .str("name")?
+            .map_or_else(|| format!("light {}", scene.light_count()), str::to_owned);
+        let light = light(&l)?;
+        scene.world.spawn((Name(name), light));
+    }
+    for (name, m) in root.named_tables("materials")? {
+        let def = material(&m, dir, files)?;
+        scene.materials.insert(name.to_owned(), def);
+    }
+    let mut meshes: HashMap<String, Arc<SceneMesh>> = HashMap::new();
+    let mut bumps: BTreeMap<String, Arc<BumpMap>> = BTreeMap::new();
+    for (i, o) in root.tables("objects")?.into_iter().enumerate() {
+        object(&mut scene, &o, i, dir, files, &mut meshes, &mut bumps)?;
+    }
+    root.finish(TOP)?;
+    Ok(scene)
+}
+
+/// Loads a scene file from disk.
+pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        file: file.clone(),
+        source,
+    })?;
+    let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let mut scene = parse_scene(&text, &file, &dir, &Disk)?;
+    scene.source = Some(path.to_path_buf());
+    Ok(scene)
+}
+
+fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
+    let mut s = RenderSettings::default();
+    if let Some(w) = r.u32("width")? {
+        s.width = w;
+    }
+    if let Some(h) = r.u32("height")? {
+        s.height = h;
+    }
+    for (key, v) in [("width", s.width), ("height", s.height)] {
+        if v == 0 || v > crate::MAX_SIDE {
+            return Err(r.error(
+                key,
+                format!("must be between 1 and {}, got {v}", crate::MAX_SIDE),
+            ));
+        }
+    }
+    if let Some(m) = r.str("shading")? {
+        s.shading = m.parse().map_err(|e: String| r.error("shading", e))?;
+    }
+    if let Some(e) = r.str("encoding")? {
+        s.encoding = choose(
+            r,
+            "encoding",
+            e,
+            &[("srgb", Encoding::Srgb), ("linear", Encoding::Linear)],
+        )?;
+    }
+    if let Some(b) = r.color("background")? {
+        s.background = b;
+    }
+    if let Some(p) = r.bool("perspective_correct")? {
+        s.perspective_correct = p;
+    }
+    if let Some(c) = r.bool("cull_backfaces")? {
+        s.cull_backfaces = c;
+    }
+    r.finish(&[
+        "width",
+        "height",
+        "shading",
+        "encoding",
+        "background",
+        "perspective_correct",
+        "cull_backfaces",
+    ])?;
+    Ok(s)
+}
+
+fn camera(c: &Fields<'_>) -> Result<Camera, SceneError> {
+    let s1 = Camera::s1();
+    let cam = Camera {
+        eye: c.vec3("eye")?.unwrap_or(s1.eye),
+        target: c.vec3("target")?.unwrap_or(s1.target),
+        up: c.vec3("up")?.unwrap_or(s1.up),
+        fov_y_deg: c.f32("fov_y_deg")?.unwrap_or(s1.fov_y_deg),
+        near: c.f32("near")?.unwrap_or(s1.near),
+        far: c.f32("far")?.unwrap_or(s1.far),
+    };
+    c.finish(&["eye", "target", "up", "fov_y_deg", "near", "far"])?;
+    if !(cam.fov_y_deg > 0.0 && cam.fov_y_deg < 180.0) {
+        return Err(c.error(
+            "fov_y_deg",
+            format!(
+                "must be between 0 and 180 (exclusive), got {}",
+                cam.fov_y_deg
+            ),
+        ));
+    }
+    if cam.near <= 0.0 {
+        return Err(c.error("near", format!("must be > 0, got {}", cam.near)));
+    }
+    if cam.far <= cam.near {
+        return Err(c.error(
+            "far",
+            format!("must be greater than near ({}), got {}", cam.near, cam.far),
+        ));
+    }
+    let dir = cam.target - cam.eye;
+    if dir.length_squared() < 1e-12 {
+        return Err(c.error("target", "must differ from eye"));
+    }
+    if dir.normalize().cross(cam.up).length_squared() < 1e-10 {
+        return Err(c.error("up", "must not be parallel to the view direction"));
+    }
+    Ok(cam)
+}
+
+fn attenuation(a: &Fields<'_>) -> Result<Attenuation, SceneError> {
+    let model = a.str("model")?.ok_or_else(|| {
+        a.error(
+            "model",
+            "missing (\"none\", \"inverse-square\", \"offset\" or \"quadratic\")",
+        )
+    })?;
+    let att = match model {
+        "none" => {
+            a.finish(&["model"])?;
+            Attenuation::None
+        }
+        "inverse-square" => {
+            a.finish(&["model"])?;
+            Attenuation::InverseSquare
+        }
+        "offset" => {
+            let k = a.req_f32("k")?;
+            a.finish(&["model", "k"])?;
+            Attenuation::Offset { k }
+        }
+        "quadratic" => {
+            let c = a.f32("c")?.unwrap_or(1.0);
+            let l = a.f32("l")?.unwrap_or(0.0);
+            let q = a.f32("q")?.unwrap_or(0.0);
+            a.finish(&["model", "c", "l", "q"])?;
+            Attenuation::Quadratic { c, l, q }
+        }
+        other => {
+            return Err(a.error(
+                "model",
+                format!("unknown value \"{other}\" (expected \"none\", \"inverse-square\", \"offset\" or \"quadratic\")"),
+            ));
+        }
+    };
+    att.validate().map_err(|e| a.error_here(e.to_string()))?;
+    Ok(att)
+}
+
+fn light(l: &Fields<'_>) -> Result<Light, SceneError> {
+    let kind_name = l.str("type")?.ok_or_else(|| {
+        l.error(
+            "type",
+            "missing (\"point\", \"directional\", \"spot\", \"tube\" or \"rect\")",
+        )
+    })?;
+    let (kind, keys): (LightKind, &[&str]) = match kind_name {
+        "point" => (
+            LightKind::Point {
+                position: l.req_vec3("position")?,
+            },
+            &["position"],
+        ),
+        "directional" => (
+            LightKind::Directional {
+                direction: l.req_vec3("direction")?,
+            },
+            &["direction"],
+        ),
+        "spot" => (
+            LightKind::Spot {
+                position: l.req_vec3("position")?,
+                direction: l.req_vec3("direction")?,
+                inner_deg: l.f32("inner_deg")?.unwrap_or(20.0),
+                outer_deg: l.f32("outer_deg")?.unwrap_or(30.0),
+            },
+            &["position", "direction", "inner_deg", "outer_deg"],
+        ),
+        "tube" => (
+            LightKind::Tube {
+                start: l.req_vec3("start")?,
+                end: l.req_vec3("end")?,
+                samples: l.u32("samples")?.unwrap_or(8),
+            },
+            &["start", "end", "samples"],
+        ),
+        "rect" => (
+            LightKind::Rect {
+                corner: l.req_vec3("corner")?,
+                edge_u: l.req_vec3("edge_u")?,
+                edge_v: l.req_vec3("edge_v")?,
+                samples: l.u32("samples")?.unwrap_or(4),
+            },
+            &["corner", "edge_u", "edge_v", "samples"],
+        ),
+        other => {
+            return Err(l.error(
+                "type",
+                format!("unknown value \"{other}\" (expected \"point\", \"directional\", \"spot\", \"tube\" or \"rect\")"),
+            ));
+        }
+    };
+    let intensity = l
+        .color("intensity")?
+        .ok_or_else(|| l.error("intensity", "missing"))?;
+    let mut light = Light::new(kind, intensity).map_err(|e| lighting_error(l, &e))?;
+    if let Some(s) = l.color("specular_intensity")? {
+        light = light
+            .with_specular_intensity(s)
+            .map_err(|e| lighting_error(l, &e))?;
+    }
+    if let Some(a) = l.table("attenuation")? {
+        if matches!(kind, LightKind::Directional { .. }) {
+            return Err(l.error(
+                "attenuation",
+                "a directional light is at infinity and cannot be attenuated",
+            ));
+        }
+        light.attenuation = attenuation(&a)?;
+    }
+    if let Some(e) = l.bool("enabled")? {
+        light.enabled = e;
+    }
+    let mut known = vec![
+        "type",
+        "name",
+        "intensity",
+        "specular_intensity",
+        "attenuation",
+        "enabled",
+    ];
+    known.extend_from_slice(keys);
+    l.finish(&known)?;
+    Ok(light)
+}
+
+/// A lighting error (`field: what`) placed under the table being read.
+fn lighting_error(f: &Fields<'_>, e: &phosphor_lighting::LightingError) -> SceneError {
+    let text = e.to_string();
+    match text.split_once(": ") {
+        Some((field, what)) if !field.contains(' ') => f.error(field, what),
+        _ => f.error_here(text),
+    }
+}
+
+fn material(m: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<MaterialDef, SceneError> {
+    let base = Material::default();
+    let mut mat = Material {
+        ka: m.color("ka")?.unwrap_or(base.ka),
+        kd: m.color("kd")?.unwrap_or(base.kd),
+        ks: m.color("ks")?.unwrap_or(base.ks),
+        shininess: m.f32("shininess")?.unwrap_or(base.shininess),
+        emission: m.color("emission")?.unwrap_or(Vec3::ZERO),
+        ..base
+    };
+    if mat.shininess < 0.0 {
+        return Err(m.error(
+            "shininess",
+            format!("must be non-negative, got {}", mat.shininess),
+        ));
+    }
+    if let Some(s) = m.str("specular")? {
+        mat.specular = choose(
+            m,
+            "specular",
+            s,
+            &[
+                ("phong", SpecularModel::Phong),
+                ("blinn", SpecularModel::Blinn),
+            ],
+        )?;
+    }
+    if let Some(f) = m.table("fresnel")? {
+        let model = f.str("model")?.unwrap_or("none");
+        mat.fresnel = match model {
+            "none" => Fresnel::None,
+            "constant" => Fresnel::Constant { w: f.req_f32("w")? },
+            "schlick" => Fresnel::Schlick {
+                f0: f.f32("f0")?.unwrap_or(phosphor_lighting::GLASS_F0),
+            },
+            other => {
+                return Err(f.error(
+                    "model",
+                    format!(
+                        "unknown value \"{other}\" (expected \"none\", \"constant\" or \"schlick\")"
+                    ),
+                ));
+            }
+        };
+        f.finish(&["model", "w", "f0"])?;
+        mat.fresnel.validate().map_err(|e| lighting_error(&f, &e))?;
+    }
+    mat.validate().map_err(|e| lighting_error(m, &e))?;
+    let bump = match m.table("bump")? {
+        Some(b) => Some(bump(&b, dir, files)?),
+        None => None,
+    };
+    m.finish(&[
+        "ka",
+        "kd",
+        "ks",
+        "shininess",
+        "specular",
+        "fresnel",
+        "emission",
+        "bump",
+    ])?;
+    Ok(MaterialDef {
+        material: mat,
+        bump,
+    })
+}
+
+fn bump(b: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<(BumpSource, f32), SceneError> {
+    let scale = b.f32("scale")?.unwrap_or(1.0);
+    let source = match (b.str("procedural")?, b.str("map")?) {
+        (Some(p), None) => BumpSource::Procedural(choose(
+            b,
+            "procedural",
+            p,
+            &[
+                ("bumps", ProceduralBump::Bumps),
+                ("ripples", ProceduralBump::Ripples),
+            ],
+        )?),
+        (None, Some(m)) => {
+            let resolved = dir.join(m);
+            if !files.exists(&resolved) {
+                return Err(b.error("map", format!("{}: no such file", resolved.display())));
+            }
+            BumpSource::Map {
+                written: m.to_owned(),
+                resolved,
+            }
+        }
+        _ => {
+            return Err(b.error_here(
+                "expected exactly one of `map = \"FILE\"` or `procedural = \"bumps\" | \"ripples\"`",
+            ));
+        }
+    };
+    b.finish(&["map", "procedural", "scale"])?;
+    Ok((source, scale))
+}
+
+fn primitive(p: &Fields<'_>) -> Result<Primitive, SceneError> {
+    let shape = p.str("shape")?.ok_or_else(|| {
+        p.error(
+            "shape",
+            "missing (\"sphere\", \"cube\", \"cylinder\", \"torus\" or \"plane\")",
+        )
+    })?;
+    let positive = |key: &'static str, default: f32| -> Result<f32, SceneError> {
+        let v = p.f32(key)?.unwrap_or(default);
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(p.error(key, format!("must be > 0, got {v}")))
+        }
+    };
+    let count = |key: &'static str, default: u32, min: u32| -> Result<u32, SceneError> {
+        let v = p.u32(key)?.unwrap_or(default);
+        if (min..=4096).contains(&v) {
+            Ok(v)
+        } else {
+            Err(p.error(key, format!("must be between {min} and 4096, got {v}")))
+        }
+    };
+    let (prim, keys): (Primitive, &[&str]) = match shape {
+        "sphere" => (
+            Primitive::Sphere {
+                radius: positive("radius", 1.0)?,
+                segments: count("segments", 64, 3)?,
+                rings: count("rings", 32, 2)?,
+            },
+            &["radius", "segments", "rings"],
+        ),
+        "cube" => (
+            Primitive::Cube {
+                half_size: positive("half_size", 0.5)?,
+            },
+            &["half_size"],
+        ),
+        "cylinder" => (
+            Primitive::Cylinder {
+                radius: positive("radius", 0.5)?,
+                height: positive("height", 1.0)?,
+                segments: count("segments", 48, 3)?,
+            },
+            &["radius", "height", "segments"],
+        ),
+        "torus" => (
+            Primitive::Torus {
+                major: positive("major", 0.7)?,
+                minor: positive("minor", 0.25)?,
+                segments: count("segments", 64, 3)?,
+                sides: count("sides", 32, 3)?,
+            },
+            &["major", "minor", "segments", "sides"],
+        ),
+        "plane" => (
+            Primitive::Plane {
+                half_size: positive("half_size", 1.0)?,
+                subdivisions: count("subdivisions", 1, 1)?,
+            },
+            &["half_size", "subdivisions"],
+        ),
+        other => {
+            return Err(p.error(
+                "shape",
+                format!("unknown value \"{other}\" (expected \"sphere\", \"cube\", \"cylinder\", \"torus\" or \"plane\")"),
+            ));
+        }
+    };
+    let mut known = vec!["shape"];
+    known.extend_from_slice(keys);
+    p.finish(&known)?;
+    Ok(prim)
+}
+
+fn normal_options(n: Option<Fields<'_>>) -> Result<NormalOptions, SceneError> {
+    let mut opts = NormalOptions::default();
+    let Some(n) = n else {
+        return Ok(opts);
+    };
+    if let Some(w) = n.str("weighting")? {
+        opts.weighting = choose(
+            &n,
+            "weighting",
+            w,
+            &[
+                ("uniform", Weighting::Uniform),
+                ("area", Weighting::Area),
+                ("angle", Weighting::Angle),
+            ],
+        )?;
+    }
+    if let Some(a) = n.f32("crease_angle_deg")? {
+        if !(0.0..=180.0).contains(&a) {
+            return Err(n.error(
+                "crease_angle_deg",
+                format!("must be between 0 and 180, got {a}"),
+            ));
+        }
+        opts.crease_angle_deg = Some(a);
+    }
+    if let Some(s) = n.bool("smoothing_groups")? {
+        opts.use_smoothing_groups = s;
+    }
+    if let Some(s) = n.bool("split_by_material")? {
+        opts.split_by_material = s;
+    }
+    if let Some(s) = n.str("source")? {
+        opts.source = choose(
+            &n,
+            "source",
+            s,
+            &[
+                ("file", NormalSource::Authored),
+                ("computed", NormalSource::Computed),
+            ],
+        )?;
+    }
+    n.finish(&[
+        "weighting",
+        "crease_angle_deg",
+        "smoothing_groups",
+        "split_by_material",
+        "source",
+    ])?;
+    Ok(opts)
+}
+
+fn transform(t: Option<Fields<'_>>) -> Result<Transform, SceneError> {
+    let mut tr = Transform::default();
+    let Some(t) = t else {
+        return Ok(tr);
+    };
+    if let Some(v) = t.vec3("translate")? {
+        tr.translate = v;
+    }
+    if let Some(v) = t.vec3("rotate_deg")? {
+        tr.rotate_deg = v;
+    }
+    let scale = match t.get("scale").and_then(|v| v.as_array()) {
+        Some(_) => t.vec3("scale")?,
+        None => t.f32("scale")?.map(Vec3::splat),
+    };
+    if let Some(s) = scale {
+        if s.abs().min_element() < 1e-12 {
+            return Err(t.error("scale", "must not be zero (the object would vanish)"));
+        }
+        tr.scale = s;
+    }
+    t.finish(&["translate", "rotate_deg", "scale"])?;
+    Ok(tr)
+}
+
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one object reads the scene, its folder, its files and two caches"
+)]
+fn object(
+    scene: &mut Scene,
+    o: &Fields<'_>,
+    index: usize,
+    dir: &Path,
+    files: &dyn Files,
+    meshes: &mut HashMap<String, Arc<SceneMesh>>,
+    bumps: &mut BTreeMap<String, Arc<BumpMap>>,
+) -> Result<(), SceneError> {
+    let name = o
+        .str("name")?
+        .map_or_else(|| format!("object {index}"), str::to_owned);
+    let normals = normal_options(o.table("normals")?)?;
+    let normalize = o.bool("normalize")?.unwrap_or(false);
+    let source = match (o.str("mesh")?, o.table("primitive")?) {
+        (Some(m), None) => MeshSource::File {
+            written: m.to_owned(),
+            resolved: dir.join(m),
+        },
+        (None, Some(p)) => MeshSource::Primitive(primitive(&p)?),
+        _ => {
+            return Err(o.error_here(
+                "expected exactly one of `mesh = \"FILE.obj\"` or `primitive = { shape = ... }`",
+            ));
+        }
+    };
+    let key = format!("{source:?}|{normals:?}|{normalize}");
+    let mesh = match meshes.get(&key) {
+        Some(m) => m.clone(),
+        None => {
+            let m = Arc::new(build_mesh(scene, o, source, normals, normalize, files)?);
+            meshes.insert(key, m.clone());
+            m
+        }
+    };
+    let material_name = o.str("material")?.unwrap_or("default");
+    let def = match scene.materials.get(material_name) {
+        Some(d) => d.clone(),
+        None if material_name == "default" => MaterialDef {
+            material: Material::default(),
+            bump: None,
+        },
+        None => {
+            let known: Vec<&str> = scene.materials.keys().map(String::as_str).collect();
+            return Err(o.error(
+                "material",
+                format!(
+                    "unknown material \"{material_name}\" (defined: {})",
+                    if known.is_empty() {
+                        "none".to_owned()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            ));
+        }
+    };
+    let shading = match o.str("shading")? {
+        Some(s) => Some(Shading(
+            s.parse::<ShadingChoice>()
+                .map_err(|e| o.error("shading", e))?,
+        )),
+        None => None,
+    };
+    let transform = transform(o.table("transform")?)?;
+    o.finish(&[
+        "name",
+        "mesh",
+        "primitive",
+        "material",
+        "normalize",
+        "shading",
+        "normals",
+        "transform",
+    ])?;
+    let entity = scene.world.spawn((
+        Name(name),
+        transform,
+        MeshRef(mesh.clone()),
+        def.material,
+        MaterialName(material_name.to_owned()),
+    ));
+    if let Some(s) = shading {
+        scene.world.insert_one(entity, s).ok();
+    }
+    if let Some((src, scale)) = &def.bump {
+        let key = material_name.to_owned();
+        let map = match bumps.get(&key) {
+            Some(m) => m.clone(),
+            None => {
+                let map = Arc::new(match src {
+                    BumpSource::Procedural(kind) => BumpMap::Procedural {
+                        kind: *kind,
+                        scale: *scale,
+                    },
+                    BumpSource::Map { resolved, .. } => BumpMap::from_image(resolved, *scale)
+                        .map_err(|e| {
+                            SceneError::field(
+                                o.file(),
+                                format!("materials.{material_name}.bump.map"),
+                                e.to_string(),
+                            )
+                        })?,
+                });
+                bumps.insert(key, map.clone());
+                map
+            }
+        };
+        if mesh.mesh.uvs.is_none() {
+            scene.warnings.push(format!(
+                "warning: {}: {}: material \"{material_name}\" has a bump map but the mesh has no texture coordinates; bump mapping is ignored",
+                o.file(),
+                o.path_of("material")
+            ));
+        }
+        scene.world.insert_one(entity, Bump(map)).ok();
+    }
+    Ok(())
+}
+
+fn build_mesh(
+    scene: &mut Scene,
+    o: &Fields<'_>,
+    source: MeshSource,
+    normals: NormalOptions,
+    normalize: bool,
+    files: &dyn Files,
+) -> Result<SceneMesh, SceneError> {
+    let mut mesh = match &source {
+        MeshSource::Primitive(p) => p.build(),
+        MeshSource::File { written, resolved } => {
+            let shown = resolved.display().to_string();
+            let text = files
+                .read_text(resolved)
+                .map_err(|e| o.error("mesh", format!("{shown}: cannot read: {e}")))?;
+            let mtl = mtl_text(&text, resolved, files);
+            let (mesh, warnings) =
+                phosphor_mesh::parse_obj_with_warnings(&text, &shown, mtl.as_deref(), &normals)
+                    .map_err(|source| SceneError::Mesh {
+                        file: o.file().to_owned(),
+                        field: o.path_of("mesh"),
+                        source,
+                    })?;
+            let _ = written;
+            scene
+                .warnings
+                .extend(warnings.into_iter().map(|w| format!("warning: {w}")));
+            mesh
+        }
+    };
+    if normalize {
+        mesh.normalize_unit();
+    }
+    if mesh.uvs.is_some() {
+        mesh.ensure_tangents();
+    }
+    let info = MeshInfo::of(&mesh);
+    Ok(SceneMesh {
+        mesh,
+        source,
+        normals,
+        normalized: normalize,
+        info,
+    })
+}
+
+/// The text of the first MTL file an OBJ's `mtllib` line names, if it can be read.
+fn mtl_text(obj: &str, obj_path: &Path, files: &dyn Files) -> Option<String> {
+    let line = obj
+        .lines()
+        .map(str::trim_start)
+        .find(|l| l.starts_with("mtllib "))?;
+    let name = line["mtllib ".len()..].trim();
+    let dir: PathBuf = obj_path.parent().unwrap_or(Path::new("")).to_path_buf();
+    files.read_text(&dir.join(name)).ok()
+}

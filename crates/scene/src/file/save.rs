@@ -1,0 +1,345 @@
+//! A [`Scene`] back to TOML: what `load` reads, so a loaded-then-saved scene loads to the
+//! same world. Paths are written as they were read; the output is written atomically.
+
+use std::path::Path;
+
+use glam::Vec3;
+use phosphor_lighting::{Attenuation, Fresnel, Light, LightKind, Material, SpecularModel};
+use phosphor_mesh::{NormalSource, Weighting};
+use phosphor_raster::{Camera, Encoding, ProceduralBump};
+use toml::{Table, Value};
+
+use crate::components::{
+    BumpSource, MaterialDef, MaterialName, MeshRef, MeshSource, Name, Primitive, Shading, Transform,
+};
+use crate::error::SceneError;
+use crate::{RenderSettings, Scene};
+
+fn v3(v: Vec3) -> Value {
+    Value::Array(
+        v.to_array()
+            .iter()
+            .map(|&x| Value::Float(f64::from(x)))
+            .collect(),
+    )
+}
+
+fn f(x: f32) -> Value {
+    Value::Float(f64::from(x))
+}
+
+fn s(x: &str) -> Value {
+    Value::String(x.to_owned())
+}
+
+fn render_table(r: &RenderSettings) -> Table {
+    let mut t = Table::new();
+    t.insert("width".into(), Value::Integer(i64::from(r.width)));
+    t.insert("height".into(), Value::Integer(i64::from(r.height)));
+    t.insert("shading".into(), s(r.shading.name()));
+    t.insert(
+        "encoding".into(),
+        s(match r.encoding {
+            Encoding::Srgb => "srgb",
+            Encoding::Linear => "linear",
+        }),
+    );
+    t.insert("background".into(), v3(r.background));
+    t.insert(
+        "perspective_correct".into(),
+        Value::Boolean(r.perspective_correct),
+    );
+    t.insert("cull_backfaces".into(), Value::Boolean(r.cull_backfaces));
+    t
+}
+
+fn camera_table(c: &Camera) -> Table {
+    let mut t = Table::new();
+    t.insert("eye".into(), v3(c.eye));
+    t.insert("target".into(), v3(c.target));
+    t.insert("up".into(), v3(c.up));
+    t.insert("fov_y_deg".into(), f(c.fov_y_deg));
+    t.insert("near".into(), f(c.near));
+    t.insert("far".into(), f(c.far));
+    t
+}
+
+fn light_table(name: &str, l: &Light) -> Table {
+    let mut t = Table::new();
+    t.insert("name".into(), s(name));
+    match l.kind {
+        LightKind::Directional { direction } => {
+            t.insert("type".into(), s("directional"));
+            t.insert("direction".into(), v3(direction));
+        }
+        LightKind::Point { position } => {
+            t.insert("type".into(), s("point"));
+            t.insert("position".into(), v3(position));
+        }
+        LightKind::Spot {
+            position,
+            direction,
+            inner_deg,
+            outer_deg,
+        } => {
+            t.insert("type".into(), s("spot"));
+            t.insert("position".into(), v3(position));
+            t.insert("direction".into(), v3(direction));
+            t.insert("inner_deg".into(), f(inner_deg));
+            t.insert("outer_deg".into(), f(outer_deg));
+        }
+        LightKind::Tube {
+            start,
+            end,
+            samples,
+        } => {
+            t.insert("type".into(), s("tube"));
+            t.insert("start".into(), v3(start));
+            t.insert("end".into(), v3(end));
+            t.insert("samples".into(), Value::Integer(i64::from(samples)));
+        }
+        LightKind::Rect {
+            corner,
+            edge_u,
+            edge_v,
+            samples,
+        } => {
+            t.insert("type".into(), s("rect"));
+            t.insert("corner".into(), v3(corner));
+            t.insert("edge_u".into(), v3(edge_u));
+            t.insert("edge_v".into(), v3(edge_v));
+            t.insert("samples".into(), Value::Integer(i64::from(samples)));
+        }
+    }
+    t.insert("intensity".into(), v3(l.intensity));
+    if let Some(si) = l.specular_intensity {
+        t.insert("specular_intensity".into(), v3(si));
+    }
+    if !matches!(l.kind, LightKind::Directional { .. }) {
+        let mut a = Table::new();
+        match l.attenuation {
+            Attenuation::None => {
+                a.insert("model".into(), s("none"));
+            }
+            Attenuation::InverseSquare => {
+                a.insert("model".into(), s("inverse-square"));
+            }
+            Attenuation::Offset { k } => {
+                a.insert("model".into(), s("offset"));
+                a.insert("k".into(), f(k));
+            }
+            Attenuation::Quadratic { c, l, q } => {
+                a.insert("model".into(), s("quadratic"));
+                a.insert("c".into(), f(c));
+                a.insert("l".into(), f(l));
+                a.insert("q".into(), f(q));
+            }
+        }
+        t.insert("attenuation".into(), Value::Table(a));
+    }
+    t.insert("enabled".into(), Value::Boolean(l.enabled));
+    t
+}
+
+fn material_table(def: &MaterialDef) -> Table {
+    let m: &Material = &def.material;
+    let mut t = Table::new();
+    t.insert("ka".into(), v3(m.ka));
+    t.insert("kd".into(), v3(m.kd));
+    t.insert("ks".into(), v3(m.ks));
+    t.insert("shininess".into(), f(m.shininess));
+    t.insert(
+        "specular".into(),
+        s(match m.specular {
+            SpecularModel::Phong => "phong",
+            SpecularModel::Blinn => "blinn",
+        }),
+    );
+    let mut fr = Table::new();
+    match m.fresnel {
+        Fresnel::None => {
+            fr.insert("model".into(), s("none"));
+        }
+        Fresnel::Constant { w } => {
+            fr.insert("model".into(), s("constant"));
+            fr.insert("w".into(), f(w));
+        }
+        Fresnel::Schlick { f0 } => {
+            fr.insert("model".into(), s("schlick"));
+            fr.insert("f0".into(), f(f0));
+        }
+    }
+    t.insert("fresnel".into(), Value::Table(fr));
+    t.insert("emission".into(), v3(m.emission));
+    if let Some((src, scale)) = &def.bump {
+        let mut b = Table::new();
+        match src {
+            BumpSource::Procedural(p) => {
+                b.insert(
+                    "procedural".into(),
+                    s(match p {
+                        ProceduralBump::Bumps => "bumps",
+                        ProceduralBump::Ripples => "ripples",
+                    }),
+                );
+            }
+            BumpSource::Map { written, .. } => {
+                b.insert("map".into(), s(written));
+            }
+        }
+        b.insert("scale".into(), f(*scale));
+        t.insert("bump".into(), Value::Table(b));
+    }
+    t
+}
+
+fn primitive_table(p: &Primitive) -> Table {
+    let mut t = Table::new();
+    let int = |x: u32| Value::Integer(i64::from(x));
+    match *p {
+        Primitive::Sphere {
+            radius,
+            segments,
+            rings,
+        } => {
+            t.insert("shape".into(), s("sphere"));
+            t.insert("radius".into(), f(radius));
+            t.insert("segments".into(), int(segments));
+            t.insert("rings".into(), int(rings));
+        }
+        Primitive::Cube { half_size } => {
+            t.insert("shape".into(), s("cube"));
+            t.insert("half_size".into(), f(half_size));
+        }
+        Primitive::Cylinder {
+            radius,
+            height,
+            segments,
+        } => {
+            t.insert("shape".into(), s("cylinder"));
+            t.insert("radius".into(), f(radius));
+            t.insert("height".into(), f(height));
+            t.insert("segments".into(), int(segments));
+        }
+        Primitive::Torus {
+            major,
+            minor,
+            segments,
+            sides,
+        } => {
+            t.insert("shape".into(), s("torus"));
+            t.insert("major".into(), f(major));
+            t.insert("minor".into(), f(minor));
+            t.insert("segments".into(), int(segments));
+            t.insert("sides".into(), int(sides));
+        }
+        Primitive::Plane {
+            half_size,
+            subdivisions,
+        } => {
+            t.insert("shape".into(), s("plane"));
+            t.insert("half_size".into(), f(half_size));
+            t.insert("subdivisions".into(), int(subdivisions));
+        }
+    }
+    t
+}
+
+/// The scene as TOML text.
+#[must_use]
+pub fn scene_to_toml(scene: &Scene) -> String {
+    let mut root = Table::new();
+    root.insert("render".into(), Value::Table(render_table(&scene.settings)));
+    root.insert("camera".into(), Value::Table(camera_table(&scene.camera())));
+    let mut ambient = Table::new();
+    ambient.insert("intensity".into(), v3(scene.ambient));
+    root.insert("ambient".into(), Value::Table(ambient));
+    let lights: Vec<Value> = scene
+        .lights()
+        .iter()
+        .map(|(name, l)| Value::Table(light_table(name, l)))
+        .collect();
+    root.insert("lights".into(), Value::Array(lights));
+    let mut materials = Table::new();
+    for (name, def) in &scene.materials {
+        materials.insert(name.clone(), Value::Table(material_table(def)));
+    }
+    root.insert("materials".into(), Value::Table(materials));
+    let mut objects = Vec::new();
+    for e in scene.objects() {
+        let mut q = scene
+            .world
+            .query_one::<(&Name, &Transform, &MeshRef, &MaterialName, Option<&Shading>)>(e);
+        let Ok((name, tr, mesh, mat, shading)) = q.get() else {
+            continue;
+        };
+        let mut t = Table::new();
+        t.insert("name".into(), s(&name.0));
+        match &mesh.0.source {
+            MeshSource::File { written, .. } => {
+                t.insert("mesh".into(), s(written.as_str()));
+            }
+            MeshSource::Primitive(p) => {
+                t.insert("primitive".into(), Value::Table(primitive_table(p)));
+            }
+        }
+        t.insert("material".into(), s(&mat.0));
+        t.insert("normalize".into(), Value::Boolean(mesh.0.normalized));
+        if let Some(sh) = shading {
+            t.insert("shading".into(), s(sh.0.name()));
+        }
+        let n = &mesh.0.normals;
+        let mut nt = Table::new();
+        nt.insert(
+            "weighting".into(),
+            s(match n.weighting {
+                Weighting::Uniform => "uniform",
+                Weighting::Area => "area",
+                Weighting::Angle => "angle",
+            }),
+        );
+        if let Some(a) = n.crease_angle_deg {
+            nt.insert("crease_angle_deg".into(), f(a));
+        }
+        nt.insert(
+            "smoothing_groups".into(),
+            Value::Boolean(n.use_smoothing_groups),
+        );
+        nt.insert(
+            "split_by_material".into(),
+            Value::Boolean(n.split_by_material),
+        );
+        nt.insert(
+            "source".into(),
+            s(match n.source {
+                NormalSource::Authored => "file",
+                NormalSource::Computed => "computed",
+            }),
+        );
+        t.insert("normals".into(), Value::Table(nt));
+        let mut tt = Table::new();
+        tt.insert("translate".into(), v3(tr.translate));
+        tt.insert("rotate_deg".into(), v3(tr.rotate_deg));
+        tt.insert("scale".into(), v3(tr.scale));
+        t.insert("transform".into(), Value::Table(tt));
+        objects.push(Value::Table(t));
+    }
+    root.insert("objects".into(), Value::Array(objects));
+    toml::to_string(&root).unwrap_or_default()
+}
+
+/// Writes the scene to `path` atomically (a temporary file beside it, then a rename), so a
+/// failed save never leaves a half-written file over a good one.
+pub fn save_scene(scene: &Scene, path: &Path) -> Result<(), SceneError> {
+    let file = path.display().to_string();
+    let text = scene_to_toml(scene);
+    let tmp = path.with_extension("toml.tmp");
+    let result = std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path));
+    result.map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        SceneError::Write {
+            file,
+            what: e.to_string(),
+        }
+    })
+}

@@ -1,0 +1,83 @@
+//! The render system: plan the frame from the world, then hand plain draw data to
+//! phosphor-raster (which never sees hecs).
+
+use std::time::{Duration, Instant};
+
+use phosphor_raster::{DrawItem, Framebuffer, MeshView, RenderOptions, RenderStats};
+
+use crate::Scene;
+use crate::plan::{FrameOptions, FramePlan, plan_frame};
+
+/// What one frame did.
+#[derive(Debug, Clone)]
+pub struct FrameReport {
+    /// The plan it followed.
+    pub plan: FramePlan,
+    /// The rasterizer's counts.
+    pub stats: RenderStats,
+    /// Time spent planning.
+    pub plan_time: Duration,
+    /// Time spent rasterizing and shading.
+    pub raster_time: Duration,
+}
+
+/// The raster draw list of a plan (borrows the plan).
+#[must_use]
+pub fn draw_items(plan: &FramePlan) -> Vec<DrawItem<'_>> {
+    plan.objects
+        .iter()
+        .map(|o| {
+            let m = &o.mesh.mesh;
+            DrawItem {
+                mesh: MeshView {
+                    positions: &m.positions,
+                    normals: &m.normals,
+                    uvs: m.uvs.as_deref(),
+                    tangents: m.tangents.as_deref(),
+                    indices: &m.indices,
+                },
+                model: o.model,
+                material: &o.material,
+                lights: &plan.light_sets[o.light_set],
+                effects: o.effects,
+                mode: o.mode,
+                bump: o.bump.as_deref(),
+            }
+        })
+        .collect()
+}
+
+/// The raster options of a scene under `opts`.
+#[must_use]
+pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
+    RenderOptions {
+        threads: opts.threads,
+        perspective_correct: opts
+            .perspective_correct
+            .unwrap_or(scene.settings.perspective_correct),
+        cull_backfaces: scene.settings.cull_backfaces,
+        background: scene.settings.background,
+    }
+}
+
+/// Plans and renders one frame of `scene` into `fb` (cleared first).
+pub fn render_frame(scene: &Scene, fb: &mut Framebuffer, opts: &FrameOptions) -> FrameReport {
+    let start = Instant::now();
+    let camera = scene.camera();
+    let aspect = fb.width() as f32 / fb.height() as f32;
+    let plan = plan_frame(scene, &camera, aspect, opts);
+    let plan_time = start.elapsed();
+    let start = Instant::now();
+    let stats = phosphor_raster::render(
+        fb,
+        &camera,
+        &draw_items(&plan),
+        &raster_options(scene, opts),
+    );
+    FrameReport {
+        plan,
+        stats,
+        plan_time,
+        raster_time: start.elapsed(),
+    }
+}

@@ -1,0 +1,416 @@
+//! Unit tests of the scene crate: scene files (every validation rule names its field), the
+//! save/load round trip, the frame plan (lights dropped only where they add exactly nothing,
+//! auto's choices), and the planned picture against the full kernel.
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::Path;
+
+use glam::Vec3;
+use phosphor_lighting::{Effects, LightSet};
+use phosphor_raster::{Framebuffer, ShadingMode};
+
+use super::*;
+
+fn err(text: &str) -> String {
+    Scene::parse(text, "t.toml").unwrap_err().to_string()
+}
+
+#[test]
+fn embedded_default_scene_loads_with_every_kind_of_thing() {
+    let s = Scene::default_scene().unwrap();
+    assert!(s.objects().len() >= 5, "{}", s.objects().len());
+    assert!(s.light_count() >= 4);
+    assert!(s.materials.values().any(|m| m.bump.is_some()));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+}
+
+#[test]
+fn shipped_s1_scene_matches_the_design() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/s1.toml");
+    let s = Scene::load(&path).unwrap();
+    assert_eq!(s.camera(), phosphor_raster::Camera::s1());
+    assert_eq!(s.ambient, Vec3::ONE);
+    let lights: Vec<_> = s.lights().into_iter().map(|(_, l)| l).collect();
+    assert_eq!(lights, phosphor_lighting::Light::s1_lights().to_vec());
+    assert_eq!(
+        s.materials["s1"].material,
+        phosphor_lighting::Material::s1()
+    );
+    assert_eq!(s.settings.encoding, phosphor_raster::Encoding::Linear);
+    assert_eq!((s.settings.width, s.settings.height), (1920, 1080));
+    // The file's object and `--mesh` give the same mesh.
+    let obj = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/meshes/bunny.obj");
+    let direct = Scene::s1_with_mesh(&obj).unwrap();
+    let a = &s.world.get::<&MeshRef>(s.objects()[0]).unwrap().0.mesh;
+    let b = &direct
+        .world
+        .get::<&MeshRef>(direct.objects()[0])
+        .unwrap()
+        .0
+        .mesh;
+    assert_eq!(a.positions, b.positions);
+    assert_eq!(a.normals, b.normals);
+}
+
+#[test]
+fn camera_values_are_checked_by_field() {
+    assert_eq!(
+        err("[camera]\nnear = 0\n"),
+        "t.toml: camera.near: must be > 0, got 0"
+    );
+    assert_eq!(
+        err("[camera]\nnear = 2\nfar = 1\n"),
+        "t.toml: camera.far: must be greater than near (2), got 1"
+    );
+    assert_eq!(
+        err("[camera]\nfov_y_deg = 180\n"),
+        "t.toml: camera.fov_y_deg: must be between 0 and 180 (exclusive), got 180"
+    );
+    assert_eq!(
+        err("[camera]\nfov_y_deg = 0\n"),
+        "t.toml: camera.fov_y_deg: must be between 0 and 180 (exclusive), got 0"
+    );
+    assert_eq!(
+        err("[camera]\neye = [0, 0, 0]\ntarget = [0, 0, 0]\n"),
+        "t.toml: camera.target: must differ from eye"
+    );
+    assert!(
+        err("[camera]\nnear = nan\n").starts_with("t.toml: camera.near: must be a finite number")
+    );
+    assert!(err("[camera]\neye = [0, inf, 0]\n").starts_with("t.toml: camera.eye: must be finite"));
+}
+
+#[test]
+fn light_values_are_checked_by_field() {
+    let light = |body: &str| {
+        format!(
+            "[[lights]]\ntype = \"point\"\nposition = [0, 0, 1]\nintensity = 1\n[[lights]]\n{body}\n"
+        )
+    };
+    assert_eq!(
+        err(&light(
+            "type = \"point\"\nposition = [0, 0, 1]\nintensity = [1, 2]"
+        )),
+        "t.toml: lights[1].intensity: expected 3 numbers, found 2"
+    );
+    assert_eq!(
+        err(&light(
+            "type = \"point\"\nposition = [0, 0, 1]\nintensity = [1, -2, 1]"
+        )),
+        "t.toml: lights[1].intensity: must be non-negative, got [1, -2, 1]"
+    );
+    assert_eq!(
+        err(&light("type = \"laser\"\nintensity = 1")),
+        "t.toml: lights[1].type: unknown value \"laser\" (expected \"point\", \"directional\", \"spot\", \"tube\" or \"rect\")"
+    );
+    assert_eq!(
+        err(&light("type = \"point\"\nintensity = 1")),
+        "t.toml: lights[1].position: missing"
+    );
+    assert!(
+        err(&light(
+            "type = \"point\"\nposition = [0, 0, 1]\nintensity = 1\nintensty = 2"
+        ))
+        .starts_with("t.toml: lights[1].intensty: unknown field")
+    );
+    assert!(
+        err(&light("type = \"spot\"\nposition = [0, 0, 1]\ndirection = [0, 0, -1]\ninner_deg = 40\nouter_deg = 30\nintensity = 1"))
+            .starts_with("t.toml: lights[1].")
+    );
+    assert!(
+        err(&light("type = \"point\"\nposition = [0, 0, 1]\nintensity = 1\nattenuation = { model = \"offset\", k = -5 }"))
+            .starts_with("t.toml: lights[1].attenuation")
+    );
+    assert!(
+        err(&light(
+            "type = \"directional\"\ndirection = [0, 0, 0]\nintensity = 1"
+        ))
+        .starts_with("t.toml: lights[1].direction")
+    );
+    assert_eq!(
+        err("[ambient]\nintensity = \"bright\"\n"),
+        "t.toml: ambient.intensity: expected 3 numbers, found a string"
+    );
+}
+
+#[test]
+fn materials_and_objects_are_checked_by_field() {
+    assert_eq!(
+        err("[[objects]]\nprimitive = { shape = \"cube\" }\nmaterial = \"gold\"\n"),
+        "t.toml: objects[0].material: unknown material \"gold\" (defined: none)"
+    );
+    assert_eq!(
+        err("[materials.m]\nshininess = -1\n"),
+        "t.toml: materials.m.shininess: must be non-negative, got -1"
+    );
+    assert_eq!(
+        err("[materials.m]\nkd = [0.5, 0.5, 1e40]\n"),
+        "t.toml: materials.m.kd: must be finite, got 1e40"
+    );
+    assert!(
+        err("[[objects]]\nmesh = \"no/such/file.obj\"\n")
+            .starts_with("t.toml: objects[0].mesh: no/such/file.obj: cannot read")
+    );
+    assert!(
+        err("[materials.m]\nbump = { map = \"no/such.png\" }\n")
+            .starts_with("t.toml: materials.m.bump.map: no/such.png: no such file")
+    );
+    assert_eq!(
+        err("[[objects]]\nprimitive = { shape = \"sphere\", radius = 0 }\n"),
+        "t.toml: objects[0].primitive.radius: must be > 0, got 0"
+    );
+    assert_eq!(
+        err("[[objects]]\nprimitive = { shape = \"cube\" }\nshading = \"shiny\"\n"),
+        "t.toml: objects[0].shading: unknown shading \"shiny\" (expected \"auto\", \"flat\", \"gouraud\", \"phong\", \"fast-phong\" or \"reference\")"
+    );
+    assert!(
+        err("[[objects]]\nmaterial = \"default\"\n")
+            .starts_with("t.toml: objects[0]: expected exactly one of")
+    );
+    assert_eq!(
+        err("[render]\nwidth = 0\n"),
+        "t.toml: render.width: must be between 1 and 16384, got 0"
+    );
+    assert!(err("[scene]\n").starts_with("t.toml: scene: unknown field"));
+}
+
+#[test]
+fn syntax_and_mesh_errors_name_the_line() {
+    assert!(
+        err("[camera]\neye = [0, 0\n").starts_with("t.toml:2: "),
+        "{}",
+        err("[camera]\neye = [0, 0\n")
+    );
+    let dir = std::env::temp_dir().join(format!("phosphor-scene-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
+    std::fs::write(dir.join("s.toml"), "[[objects]]\nmesh = \"bad.obj\"\n").unwrap();
+    let e = Scene::load(&dir.join("s.toml")).unwrap_err().to_string();
+    assert!(e.contains("s.toml: objects[0].mesh: "), "{e}");
+    assert!(e.contains("bad.obj:4: "), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn loaded_then_saved_scene_loads_to_the_same_world() {
+    let a = Scene::default_scene().unwrap();
+    let text = scene_to_toml(&a);
+    // Paths in the default scene are relative to assets/scenes; load from there.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes");
+    let b = parse_scene(&text, "saved.toml", &dir, &Disk).unwrap();
+    assert_eq!(scene_to_toml(&b), text);
+    assert_eq!(a.camera(), b.camera());
+    assert_eq!(a.lights(), b.lights());
+    assert_eq!(a.materials, b.materials);
+    for (ea, eb) in a.objects().into_iter().zip(b.objects()) {
+        let ma = a.world.get::<&MeshRef>(ea).unwrap().0.clone();
+        let mb = b.world.get::<&MeshRef>(eb).unwrap().0.clone();
+        assert_eq!(ma.mesh.positions, mb.mesh.positions);
+        assert_eq!(ma.mesh.normals, mb.mesh.normals);
+        assert_eq!(
+            *a.world.get::<&Transform>(ea).unwrap(),
+            *b.world.get::<&Transform>(eb).unwrap()
+        );
+        assert_eq!(
+            *a.world.get::<&phosphor_lighting::Material>(ea).unwrap(),
+            *b.world.get::<&phosphor_lighting::Material>(eb).unwrap()
+        );
+    }
+}
+
+#[test]
+fn a_failed_save_leaves_the_old_file() {
+    let s = Scene::default_scene().unwrap();
+    let missing = Path::new("/nonexistent-dir-phosphor/scene.toml");
+    let e = save_scene(&s, missing).unwrap_err().to_string();
+    assert!(
+        e.starts_with("/nonexistent-dir-phosphor/scene.toml: cannot write"),
+        "{e}"
+    );
+}
+
+/// Renders `scene` through the plan, and through the full kernel: every enabled light,
+/// every effect on (BUMP as planned), the same modes. Returns both framebuffers.
+fn planned_and_full(scene: &Scene, mode: ShadingMode) -> (Framebuffer, Framebuffer, FramePlan) {
+    let (w, h) = (96, 72);
+    let opts = FrameOptions {
+        shading: Some(ShadingChoice::Mode(mode)),
+        threads: 1,
+        ..FrameOptions::default()
+    };
+    let mut planned = Framebuffer::new(w, h).unwrap();
+    let report = render_frame(scene, &mut planned, &opts);
+    let all: Vec<_> = scene.lights().into_iter().map(|(_, l)| l).collect();
+    let full_set = LightSet::new(scene.ambient, &all);
+    let mut items = draw_items(&report.plan);
+    for it in &mut items {
+        it.lights = &full_set;
+        it.effects = Effects::ALL.with(Effects::BUMP, it.effects.contains(Effects::BUMP));
+    }
+    let mut full = Framebuffer::new(w, h).unwrap();
+    phosphor_raster::render(
+        &mut full,
+        &scene.camera(),
+        &items,
+        &raster_options(scene, &opts),
+    );
+    (planned, full, report.plan)
+}
+
+const BASE: &str = r#"
+[camera]
+eye = [0, 0.5, 3]
+[ambient]
+intensity = 0.5
+"#;
+
+#[test]
+fn planned_picture_equals_the_full_kernel_when_terms_are_switched_off() {
+    let cases: &[(&str, &str)] = &[
+        (
+            "no specular (ks = 0)",
+            "[materials.m]\nkd = [0.8, 0.6, 0.4]\nks = 0\n[[lights]]\ntype = \"point\"\nposition = [2, 2, 2]\nintensity = 2\nattenuation = { model = \"offset\", k = 1 }\n",
+        ),
+        (
+            "no ambient (ka = 0)",
+            "[materials.m]\nka = 0\nks = 0.5\nshininess = 20\n[[lights]]\ntype = \"point\"\nposition = [2, 2, 2]\nintensity = 2\n",
+        ),
+        (
+            "no diffuse (kd = 0)",
+            "[materials.m]\nkd = 0\nks = 0.7\nshininess = 10\n[[lights]]\ntype = \"point\"\nposition = [2, 2, 2]\nintensity = 2\n",
+        ),
+        (
+            "directional lights only (no attenuation)",
+            "[materials.m]\nks = 0.5\nshininess = 32\n[[lights]]\ntype = \"directional\"\ndirection = [-1, -1, -1]\nintensity = [1, 0.5, 0.2]\n[[lights]]\ntype = \"directional\"\ndirection = [1, 0, -1]\nintensity = [0.2, 0.4, 1]\n",
+        ),
+        (
+            "spot that misses the object",
+            "[materials.m]\nks = 0.5\nshininess = 32\n[[lights]]\ntype = \"point\"\nposition = [2, 2, 2]\nintensity = 1\n[[lights]]\ntype = \"spot\"\nposition = [0, 5, 0]\ndirection = [1, 0, 0]\ninner_deg = 5\nouter_deg = 10\nintensity = 4\nattenuation = { model = \"inverse-square\" }\n",
+        ),
+        (
+            "zero-intensity and disabled lights",
+            "[materials.m]\nks = 0.5\nshininess = 32\n[[lights]]\ntype = \"point\"\nposition = [2, 2, 2]\nintensity = 1\n[[lights]]\ntype = \"point\"\nposition = [-2, 2, 2]\nintensity = 0\nattenuation = { model = \"inverse-square\" }\n[[lights]]\ntype = \"tube\"\nstart = [0, 3, 0]\nend = [1, 3, 0]\nintensity = 3\nenabled = false\n",
+        ),
+        (
+            "emission only, no lights",
+            "[materials.m]\nka = 0\nkd = 0.5\nemission = [0.2, 0.1, 0.05]\n",
+        ),
+        (
+            "no fresnel variation",
+            "[materials.m]\nks = 0.6\nshininess = 16\nfresnel = { model = \"none\" }\n[[lights]]\ntype = \"spot\"\nposition = [0, 3, 3]\ndirection = [0, -1, -1]\ninner_deg = 20\nouter_deg = 40\nintensity = 3\n",
+        ),
+    ];
+    let objects = "[[objects]]\nprimitive = { shape = \"sphere\", radius = 1, segments = 24, rings = 12 }\nmaterial = \"m\"\n[[objects]]\nprimitive = { shape = \"plane\", half_size = 3 }\nmaterial = \"m\"\ntransform = { translate = [0, -1, 0] }\n";
+    for (label, body) in cases {
+        let scene = Scene::parse(&format!("{BASE}{body}{objects}"), "t.toml").unwrap();
+        for mode in ShadingMode::ALL {
+            let (planned, full, plan) = planned_and_full(&scene, mode);
+            assert!(
+                planned.color().iter().any(|c| c.max_element() > 0.0),
+                "{label}: empty picture"
+            );
+            let differing = planned
+                .color()
+                .iter()
+                .zip(full.color())
+                .filter(|(a, b)| a != b)
+                .count();
+            assert_eq!(
+                differing, 0,
+                "{label} {mode}: {differing} pixels differ\n{plan}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_plane_lit_from_behind_drops_that_light_and_keeps_the_picture() {
+    let scene = Scene::parse(
+        &format!(
+            "{BASE}[materials.m]\nks = 0.5\nshininess = 8\n[[lights]]\nname = \"front\"\ntype = \"point\"\nposition = [0, 2, 2]\nintensity = 1\n[[lights]]\nname = \"under\"\ntype = \"point\"\nposition = [0, -3, 0]\nintensity = 5\nattenuation = {{ model = \"inverse-square\" }}\n[[objects]]\nprimitive = {{ shape = \"plane\", half_size = 2 }}\nmaterial = \"m\"\ntransform = {{ translate = [0, -1, 0] }}\n"
+        ),
+        "t.toml",
+    )
+    .unwrap();
+    for mode in ShadingMode::ALL {
+        let (planned, full, plan) = planned_and_full(&scene, mode);
+        assert_eq!(plan.objects[0].lights, vec![0], "{plan}");
+        assert!(!plan.objects[0].effects.contains(Effects::ATTENUATION));
+        assert_eq!(planned.color(), full.color(), "{mode}");
+    }
+}
+
+#[test]
+fn objects_outside_the_frustum_are_culled() {
+    let scene = Scene::parse(
+        &format!(
+            "{BASE}[[objects]]\nname = \"seen\"\nprimitive = {{ shape = \"cube\" }}\n[[objects]]\nname = \"behind\"\nprimitive = {{ shape = \"cube\" }}\ntransform = {{ translate = [0, 0, 10] }}\n[[objects]]\nname = \"far left\"\nprimitive = {{ shape = \"cube\" }}\ntransform = {{ translate = [-50, 0, 0] }}\n"
+        ),
+        "t.toml",
+    )
+    .unwrap();
+    let plan = plan_frame(&scene, &scene.camera(), 4.0 / 3.0, &FrameOptions::default());
+    assert_eq!(plan.objects.len(), 1);
+    assert_eq!(
+        plan.culled,
+        vec!["behind".to_owned(), "far left".to_owned()]
+    );
+}
+
+fn auto_mode(body: &str) -> (ShadingMode, String) {
+    let scene = Scene::parse(&format!("{BASE}{body}"), "t.toml").unwrap();
+    let plan = plan_frame(&scene, &scene.camera(), 4.0 / 3.0, &FrameOptions::default());
+    (plan.objects[0].mode, plan.objects[0].reason.clone())
+}
+
+#[test]
+fn auto_follows_the_seeds_conditions() {
+    let sun = "[[lights]]\ntype = \"directional\"\ndirection = [-1, -1, -1]\nintensity = 1\n";
+    let near = "[[lights]]\ntype = \"point\"\nposition = [1.5, 1.5, 1.5]\nintensity = 1\n";
+    // A polyhedron, matte, under the sun: N.L is constant per face, so flat is exact.
+    let (m, why) = auto_mode(&format!(
+        "{sun}[materials.m]\nks = 0\n[[objects]]\nprimitive = {{ shape = \"cube\" }}\nmaterial = \"m\"\n"
+    ));
+    assert_eq!(m, ShadingMode::Flat, "{why}");
+    // The same cube beside a point light: N.L varies over a face.
+    let (m, why) = auto_mode(&format!(
+        "{near}[materials.m]\nks = 0\n[[objects]]\nprimitive = {{ shape = \"cube\" }}\nmaterial = \"m\"\n"
+    ));
+    assert_ne!(m, ShadingMode::Flat, "{why}");
+    // A fine matte sphere: no specular term, gouraud is good enough.
+    let (m, why) = auto_mode(&format!(
+        "{sun}[materials.m]\nks = 0\n[[objects]]\nprimitive = {{ shape = \"sphere\", segments = 128, rings = 64 }}\nmaterial = \"m\"\n"
+    ));
+    assert_eq!(m, ShadingMode::Gouraud, "{why}");
+    // A coarse, very shiny sphere: the highlight is smaller than a triangle.
+    let (m, why) = auto_mode(&format!(
+        "{sun}[materials.m]\nks = 1\nshininess = 500\n[[objects]]\nprimitive = {{ shape = \"sphere\", segments = 12, rings = 6 }}\nmaterial = \"m\"\n"
+    ));
+    assert_eq!(m, ShadingMode::Phong, "{why}");
+    // A fine sphere with a broad highlight: fast Phong.
+    let (m, why) = auto_mode(&format!(
+        "{sun}[materials.m]\nks = 0.5\nshininess = 8\n[[objects]]\nprimitive = {{ shape = \"sphere\", segments = 96, rings = 48 }}\nmaterial = \"m\"\n"
+    ));
+    assert_eq!(m, ShadingMode::FastPhong, "{why}");
+    // Bump maps need per-pixel normals.
+    let (m, why) = auto_mode(&format!(
+        "{sun}[materials.m]\nbump = {{ procedural = \"bumps\" }}\n[[objects]]\nprimitive = {{ shape = \"sphere\" }}\nmaterial = \"m\"\n"
+    ));
+    assert_eq!(m, ShadingMode::Phong, "{why}");
+}
+
+#[test]
+fn default_scene_renders_finite_and_varied() {
+    let scene = Scene::default_scene().unwrap();
+    let mut fb = Framebuffer::new(160, 90).unwrap();
+    let report = render_frame(&scene, &mut fb, &FrameOptions::default());
+    assert!(
+        fb.color()
+            .iter()
+            .all(|c| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0)
+    );
+    let modes: std::collections::HashSet<_> = report.plan.objects.iter().map(|o| o.mode).collect();
+    assert!(modes.len() >= 2, "{}", report.plan);
+    assert!(report.stats.pixels_shaded > 160 * 90 / 4);
+}
