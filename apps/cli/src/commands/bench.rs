@@ -1,9 +1,60 @@
-//! `phosphor bench` (wired to the scene crate once it lands).
+//! `phosphor bench`: frame times per mode, after a warm-up, loading excluded. One line per
+//! mode, exactly `MODE median_ms=X min_ms=Y max_ms=Z frames=N` (DESIGN.md), so scripts can
+//! compare runs.
 
+use std::time::Instant;
+
+use phosphor_raster::ShadingMode;
+use phosphor_scene::{FrameOptions, ShadingChoice, render_frame};
+
+use super::{frame_size, framebuffer, load_source};
 use crate::CliError;
-use crate::args::*;
+use crate::accuracy::median;
+use crate::args::{BenchArgs, BenchMode};
+
+fn choices(mode: BenchMode) -> Vec<ShadingChoice> {
+    let m = ShadingChoice::Mode;
+    match mode {
+        BenchMode::Flat => vec![m(ShadingMode::Flat)],
+        BenchMode::Gouraud => vec![m(ShadingMode::Gouraud)],
+        BenchMode::Phong => vec![m(ShadingMode::Phong)],
+        BenchMode::FastPhong => vec![m(ShadingMode::FastPhong)],
+        BenchMode::Reference => vec![m(ShadingMode::Reference)],
+        BenchMode::Auto => vec![ShadingChoice::Auto],
+        BenchMode::All => ShadingMode::ALL
+            .into_iter()
+            .map(m)
+            .chain([ShadingChoice::Auto])
+            .collect(),
+    }
+}
 
 /// Runs `phosphor bench`.
-pub fn run(_args: &BenchArgs) -> Result<(), CliError> {
-    Err(CliError::Input("not implemented yet".into()))
+pub fn run(args: &BenchArgs) -> Result<(), CliError> {
+    let scene = load_source(&args.source)?;
+    let (width, height) = frame_size(&scene, args.size);
+    let mut fb = framebuffer(width, height)?;
+    for choice in choices(args.shading) {
+        let opts = FrameOptions {
+            shading: Some(choice),
+            threads: args.threads.unwrap_or(0),
+            ..FrameOptions::default()
+        };
+        render_frame(&scene, &mut fb, &opts); // warm-up: caches, thread pool, tables
+        let mut times = Vec::with_capacity(args.frames as usize);
+        for _ in 0..args.frames {
+            let start = Instant::now();
+            render_frame(&scene, &mut fb, &opts);
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        let min = times.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = times.iter().copied().fold(0.0f64, f64::max);
+        println!(
+            "{} median_ms={:.3} min_ms={min:.3} max_ms={max:.3} frames={}",
+            choice.name(),
+            median(&times),
+            args.frames
+        );
+    }
+    Ok(())
 }

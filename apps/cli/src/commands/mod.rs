@@ -1,6 +1,54 @@
-//! One module per subcommand; each exposes `run(&Args) -> Result<(), CliError>`.
+//! One module per subcommand; each exposes `run(&Args) -> Result<(), CliError>`. This module
+//! holds what they share: where the scene comes from, and the frame size and options.
 
 pub mod accuracy;
 pub mod bench;
 pub mod info;
 pub mod render;
+
+use phosphor_raster::ShadingMode;
+use phosphor_scene::{Scene, ShadingChoice};
+
+use crate::CliError;
+use crate::args::{ModeArg, SceneSource, Size};
+
+/// Loads the scene a command names: a scene file, a mesh in S1, or the embedded default.
+/// Warnings (missing MTL, ignored bump maps) go to stderr, one line each.
+pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
+    let scene = match (&source.scene, &source.mesh) {
+        (Some(path), _) => Scene::load(path),
+        (None, Some(mesh)) => Scene::s1_with_mesh(mesh),
+        (None, None) => Scene::default_scene(),
+    }
+    .map_err(|e| CliError::Input(e.to_string()))?;
+    for w in &scene.warnings {
+        eprintln!("{w}");
+    }
+    Ok(scene)
+}
+
+/// The frame size: `--size`, else the scene's `[render]` size.
+#[must_use]
+pub fn frame_size(scene: &Scene, size: Option<Size>) -> (u32, u32) {
+    size.map_or((scene.settings.width, scene.settings.height), |s| {
+        (s.width, s.height)
+    })
+}
+
+/// A command-line shading choice as the scene crate's.
+#[must_use]
+pub fn shading_choice(m: ModeArg) -> ShadingChoice {
+    match m {
+        ModeArg::Flat => ShadingChoice::Mode(ShadingMode::Flat),
+        ModeArg::Gouraud => ShadingChoice::Mode(ShadingMode::Gouraud),
+        ModeArg::Phong => ShadingChoice::Mode(ShadingMode::Phong),
+        ModeArg::FastPhong => ShadingChoice::Mode(ShadingMode::FastPhong),
+        ModeArg::Reference => ShadingChoice::Mode(ShadingMode::Reference),
+        ModeArg::Auto => ShadingChoice::Auto,
+    }
+}
+
+/// A framebuffer of the given size, or an input error.
+pub fn framebuffer(width: u32, height: u32) -> Result<phosphor_raster::Framebuffer, CliError> {
+    phosphor_raster::Framebuffer::new(width, height).map_err(|e| CliError::Input(e.to_string()))
+}
