@@ -7,16 +7,19 @@
 //! This file is about rendering: what is drawn and how the title describes it. The window
 //! plumbing lives in `window.rs`, the camera and key table in `input.rs`.
 
-#[allow(dead_code)] // the orbit camera is used once the scene crate lands
 mod input;
 mod window;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Instant;
 
 use clap::Parser;
+use phosphor_lighting::Light;
+use phosphor_raster::{Camera, Encoding, Framebuffer, ShadingMode};
+use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
 
-use crate::input::{Action, KEY_HELP};
+use crate::input::{Action, KEY_HELP, ModeKey, OrbitCamera};
 use crate::window::{View, WindowError, WindowOptions};
 
 /// Window size when neither `--size` nor the scene gives one.
@@ -67,76 +70,227 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
     Ok((side(w)?, side(h)?))
 }
 
-/// The scene renderer behind the window (placeholder pattern until the scene crate lands).
+/// The modes behind keys 1..5, in key order.
+const KEY_MODES: [ShadingMode; 5] = [
+    ShadingMode::Flat,
+    ShadingMode::Gouraud,
+    ShadingMode::Phong,
+    ShadingMode::FastPhong,
+    ShadingMode::Reference,
+];
+
+/// The scene renderer behind the window: the scene, the orbit camera, the toggles, and the
+/// framebuffer reused from frame to frame.
 struct Viewer {
-    last: Vec<u32>,
-    size: (u32, u32),
-    angle: f32,
+    scene: Scene,
+    /// The scene's own camera, for `R`.
+    home: Camera,
+    orbit: OrbitCamera,
+    shading: Option<ShadingChoice>,
+    bump: bool,
+    perspective_correct: bool,
+    fb: Option<Framebuffer>,
+    /// Milliseconds of the last frame (plan + raster), and a smoothed frames-per-second.
+    last_ms: f64,
+    fps: f64,
+    triangles: u64,
+    frames: u32,
+    total_ms: f64,
+}
+
+impl Viewer {
+    fn new(scene: Scene) -> Viewer {
+        let home = scene.camera();
+        Viewer {
+            orbit: OrbitCamera::new(home.eye, home.target, home.up),
+            perspective_correct: scene.settings.perspective_correct,
+            scene,
+            home,
+            shading: None,
+            bump: true,
+            fb: None,
+            last_ms: 0.0,
+            fps: 0.0,
+            triangles: 0,
+            frames: 0,
+            total_ms: 0.0,
+        }
+    }
+
+    /// The orbiting camera; near and far follow the zoom so the scene is never cut away.
+    fn camera(&self) -> Camera {
+        let zoom = self.orbit.zoom_ratio();
+        Camera {
+            eye: self.orbit.eye(),
+            target: self.orbit.target,
+            up: self.home.up,
+            near: self.home.near * zoom.min(1.0),
+            far: self.home.far * zoom.max(1.0),
+            ..self.home
+        }
+    }
 }
 
 impl View for Viewer {
     fn draw(&mut self, width: u32, height: u32, out: &mut [u32]) -> Result<(), String> {
-        for (i, px) in out.iter_mut().enumerate() {
-            let x = (i as u32 % width) * 255 / width;
-            let y = (i as u32 / width) * 255 / height;
-            *px = (x << 16) | (y << 8) | ((self.angle as u32) & 255);
-        }
-        self.last = out.to_vec();
-        self.size = (width, height);
+        let start = Instant::now();
+        let fb = match self.fb.take() {
+            Some(fb) if fb.width() == width && fb.height() == height => fb,
+            _ => Framebuffer::new(width, height).map_err(|e| e.to_string())?,
+        };
+        let mut fb = fb;
+        let camera = self.camera();
+        self.scene.set_camera(camera);
+        let opts = FrameOptions {
+            shading: self.shading,
+            bump: self.bump,
+            perspective_correct: Some(self.perspective_correct),
+            threads: 0,
+        };
+        let report = render_frame(&self.scene, &mut fb, &opts);
+        fb.write_0rgb(out);
+        self.fb = Some(fb);
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        self.last_ms = ms;
+        let fps = 1e3 / ms.max(1e-3);
+        self.fps = if self.frames == 0 {
+            fps
+        } else {
+            0.8 * self.fps + 0.2 * fps
+        };
+        self.triangles = report.stats.triangles_drawn;
+        self.frames += 1;
+        self.total_ms += ms;
         Ok(())
     }
 
     fn title(&self) -> String {
-        "Phosphor (H: keys)".to_string()
+        let mode = self
+            .shading
+            .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
+        format!(
+            "Phosphor | {mode}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            if self.bump { "" } else { " | bump off" },
+            if self.perspective_correct {
+                ""
+            } else {
+                " | screen-space"
+            },
+            self.last_ms,
+            self.fps,
+            self.triangles
+        )
     }
 
-    fn apply(&mut self, action: Action, _height: u32) -> bool {
+    fn apply(&mut self, action: Action, height: u32) -> bool {
         match action {
             Action::Help => {
                 println!("{KEY_HELP}");
                 false
             }
-            Action::Orbit { dx, .. } => {
-                self.angle += dx;
+            Action::Orbit { dx, dy } => {
+                self.orbit.orbit(dx, dy);
                 true
             }
-            _ => true,
+            Action::Pan { dx, dy } => {
+                self.orbit.pan(dx, dy, self.home.fov_y_deg, height);
+                true
+            }
+            Action::Zoom(lines) => {
+                self.orbit.zoom(lines);
+                true
+            }
+            Action::Shading(ModeKey::Auto) => {
+                self.shading = None;
+                true
+            }
+            Action::Shading(ModeKey::Mode(i)) => {
+                self.shading = KEY_MODES.get(i).map(|m| ShadingChoice::Mode(*m));
+                true
+            }
+            Action::ToggleLight(n) => {
+                let Some(&e) = self.scene.light_entities().get(n) else {
+                    return false;
+                };
+                if let Ok(mut light) = self.scene.world.get::<&mut Light>(e) {
+                    light.enabled = !light.enabled;
+                    println!(
+                        "light {} {}",
+                        n + 1,
+                        if light.enabled { "on" } else { "off" }
+                    );
+                }
+                true
+            }
+            Action::ToggleBump => {
+                self.bump = !self.bump;
+                true
+            }
+            Action::TogglePerspective => {
+                self.perspective_correct = !self.perspective_correct;
+                true
+            }
+            Action::ResetView => {
+                self.orbit = OrbitCamera::new(self.home.eye, self.home.target, self.home.up);
+                true
+            }
+            Action::Quit => false,
         }
     }
 
     fn save_screenshot(&self, path: &Path) -> Result<(), String> {
-        let mut rgb = Vec::with_capacity(self.last.len() * 3);
-        for px in &self.last {
-            rgb.extend_from_slice(&[(px >> 16) as u8, (px >> 8) as u8, *px as u8]);
-        }
-        let tmp = path.with_extension("png.tmp");
-        image::save_buffer_with_format(
-            &tmp,
-            &rgb,
-            self.size.0,
-            self.size.1,
-            image::ColorType::Rgb8,
-            image::ImageFormat::Png,
-        )
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-        std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
+        let fb = self.fb.as_ref().ok_or("no frame drawn yet")?;
+        // The window shows sRGB (Framebuffer::write_0rgb); the screenshot is the same bytes.
+        fb.save_png(path, Encoding::Srgb).map_err(|e| e.to_string())
     }
+}
+
+/// The scene named on the command line, or the embedded default.
+fn load(args: &Args) -> Result<Scene, String> {
+    let scene = match (&args.scene, &args.mesh) {
+        (Some(p), _) => Scene::load(p),
+        (None, Some(m)) => Scene::s1_with_mesh(m),
+        (None, None) => Scene::default_scene(),
+    }
+    .map_err(|e| e.to_string())?;
+    for w in &scene.warnings {
+        eprintln!("{w}");
+    }
+    Ok(scene)
 }
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    let viewer = Viewer {
-        last: Vec::new(),
-        size: (1, 1),
-        angle: 0.0,
+    let scene = match load(&args) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {}", e.lines().collect::<Vec<_>>().join(" "));
+            return ExitCode::from(1);
+        }
     };
+    let viewer = Viewer::new(scene);
+    if args.frames.is_none() {
+        println!("{KEY_HELP}");
+    }
     let options = WindowOptions {
         size: args.size.unwrap_or(DEFAULT_SIZE),
         frames: args.frames.or(args.screenshot.as_ref().map(|_| 1)),
         screenshot: args.screenshot,
     };
+    let frames_mode = options.frames.is_some();
     match window::run(viewer, options) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(viewer) => {
+            if frames_mode && viewer.frames > 0 {
+                let mean = viewer.total_ms / f64::from(viewer.frames);
+                println!(
+                    "frames={} mean_ms={mean:.2} fps={:.1} triangles={}",
+                    viewer.frames,
+                    1e3 / mean.max(1e-3),
+                    viewer.triangles
+                );
+            }
+            ExitCode::SUCCESS
+        }
         Err(WindowError::NoDisplay(why)) => {
             eprintln!(
                 "error: no display available ({why}); use `phosphor render` to render to a file"

@@ -53,8 +53,9 @@ pub enum WindowError {
     Failed(String),
 }
 
-/// Runs the viewer until the window is closed (or the frame count is reached).
-pub fn run<V: View>(view: V, options: WindowOptions) -> Result<(), WindowError> {
+/// Runs the viewer until the window is closed (or the frame count is reached); gives the view
+/// back so the caller can report on it.
+pub fn run<V: View>(view: V, options: WindowOptions) -> Result<V, WindowError> {
     let event_loop = EventLoop::new().map_err(|e| WindowError::NoDisplay(one_line(&e)))?;
     event_loop.set_control_flow(ControlFlow::Wait);
     let context = Context::new(event_loop.owned_display_handle())
@@ -74,7 +75,7 @@ pub fn run<V: View>(view: V, options: WindowOptions) -> Result<(), WindowError> 
         .map_err(|e| WindowError::Failed(one_line(&e)))?;
     match app.error {
         Some(e) => Err(e),
-        None => Ok(()),
+        None => Ok(app.view),
     }
 }
 

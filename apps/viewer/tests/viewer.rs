@@ -65,3 +65,49 @@ fn a_bad_size_is_a_usage_error() {
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
     assert!(text(&out.stderr).contains("WxH"));
 }
+
+/// Distinct colours in an RGB8 image, counted on a coarse 4-bit-per-channel grid so that
+/// shading gradients count once per band.
+fn distinct_colours(img: &image::RgbImage) -> usize {
+    let mut seen = std::collections::HashSet::new();
+    for p in img.pixels() {
+        seen.insert((p[0] >> 4, p[1] >> 4, p[2] >> 4));
+    }
+    seen.len()
+}
+
+#[test]
+fn headless_viewer_renders_the_default_scene_to_a_screenshot() {
+    // CI installs Xvfb (.ci/run); the test must not pass without having run the viewer.
+    let xvfb = Command::new("xvfb-run").arg("--help").output();
+    assert!(
+        xvfb.is_ok(),
+        "xvfb-run is required for this test (Debian package `xvfb`; .ci/run installs it)"
+    );
+    let dir = std::env::temp_dir().join(format!("phosphor-viewer-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let shot = dir.join("shot.png");
+    let mut cmd = Command::new("xvfb-run");
+    cmd.env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .args(["-a", "-s", "-screen 0 800x600x24"])
+        .arg(env!("CARGO_BIN_EXE_phosphor-viewer"))
+        .args(["--size", "320x180", "--frames", "10", "--screenshot"])
+        .arg(&shot);
+    let out = run_with_timeout(cmd);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("frames=10 "), "{stdout}");
+    let img = image::open(&shot).expect("screenshot readable").to_rgb8();
+    assert_eq!(img.dimensions(), (320, 180));
+    // The default scene's background is dark; objects cover a good part of the view.
+    let background = img.get_pixel(2, 2).0;
+    let covered = img.pixels().filter(|p| p.0 != background).count();
+    assert!(
+        covered > 320 * 180 / 3,
+        "only {covered} pixels differ from the background"
+    );
+    let colours = distinct_colours(&img);
+    assert!(colours >= 40, "only {colours} distinct colours");
+    std::fs::remove_dir_all(&dir).ok();
+}
