@@ -247,6 +247,9 @@ pub struct MeshInfo {
     pub max_edge: f32,
     /// The largest angle between two vertex normals of one triangle, radians.
     pub max_normal_spread: f32,
+    /// The 90th percentile of that angle over the triangles: the spread of a typical
+    /// triangle, not of the worst one (a crease-split sliver should not decide for a mesh).
+    pub typical_normal_spread: f32,
     /// Every triangle's vertex normals equal its face normal (within 1e-3 rad): a polyhedron,
     /// the seeds' condition (c) for flat shading.
     pub polyhedron: bool,
@@ -277,7 +280,7 @@ impl MeshInfo {
             .map(|p| p.distance(center))
             .fold(0.0f32, f32::max);
         let mut max_edge = 0.0f32;
-        let mut spread = 0.0f32;
+        let mut spreads = Vec::with_capacity(mesh.indices.len());
         let mut polyhedron = true;
         for (t, tri) in mesh.indices.iter().enumerate() {
             let Some([a, b, c]) = mesh.triangle_positions(t) else {
@@ -288,14 +291,22 @@ impl MeshInfo {
                 .max(b.distance(c))
                 .max(c.distance(a));
             let n = tri.map(|i| mesh.normals.get(i as usize).copied().unwrap_or(Vec3::ZERO));
-            spread = spread
-                .max(angle_between(n[0], n[1]))
-                .max(angle_between(n[1], n[2]))
-                .max(angle_between(n[2], n[0]));
+            spreads.push(
+                angle_between(n[0], n[1])
+                    .max(angle_between(n[1], n[2]))
+                    .max(angle_between(n[2], n[0])),
+            );
             if polyhedron && let Some(face) = mesh.face_normal(t) {
                 polyhedron = n.iter().all(|v| angle_between(*v, face) < 1e-3);
             }
         }
+        let spread = spreads.iter().copied().fold(0.0f32, f32::max);
+        let typical = if spreads.is_empty() {
+            0.0
+        } else {
+            let k = (spreads.len() * 9 / 10).min(spreads.len() - 1);
+            *spreads.select_nth_unstable_by(k, f32::total_cmp).1
+        };
         MeshInfo {
             bounds: if lo.is_finite() && hi.is_finite() {
                 (lo, hi)
@@ -306,6 +317,7 @@ impl MeshInfo {
             radius,
             max_edge,
             max_normal_spread: spread,
+            typical_normal_spread: typical,
             polyhedron,
             normal_cone: normal_cone(&mesh.normals),
         }

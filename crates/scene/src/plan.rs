@@ -367,7 +367,8 @@ pub struct AutoInput<'a> {
 /// - `gouraud` where there is no specular term and the mesh is fine relative to the light's
 ///   variation (estimated interpolation error at most the tolerance).
 /// - `phong` where highlights are smaller than the triangles (the highlight's half-width in
-///   normal angle is less than the normals' spread within one triangle), and for bump maps.
+///   normal angle is less than the normals' spread within a typical triangle, the 90th
+///   percentile), and for bump maps.
 /// - `fast-phong` otherwise: the highlights span several triangles, where the Taylor
 ///   expansion holds (and its per-triangle fallback guards the rest).
 #[must_use]
@@ -435,13 +436,13 @@ pub fn choose_mode(o: &AutoInput<'_>) -> (ShadingMode, String) {
         SpecularModel::Phong => lobe * 0.5,
         SpecularModel::Blinn => lobe,
     };
-    if half_width < info.max_normal_spread {
+    if half_width < info.typical_normal_spread {
         (
             ShadingMode::Phong,
             format!(
                 "highlight (half-width {:.1} deg) smaller than triangles (normal spread {:.1} deg)",
                 half_width.to_degrees(),
-                info.max_normal_spread.to_degrees()
+                info.typical_normal_spread.to_degrees()
             ),
         )
     } else {
@@ -450,7 +451,7 @@ pub fn choose_mode(o: &AutoInput<'_>) -> (ShadingMode, String) {
             format!(
                 "highlight (half-width {:.1} deg) spans triangles (normal spread {:.1} deg)",
                 half_width.to_degrees(),
-                info.max_normal_spread.to_degrees()
+                info.typical_normal_spread.to_degrees()
             ),
         )
     }
