@@ -102,6 +102,13 @@ fn options(row: Row) -> FrameOptions {
     }
 }
 
+/// How many of the `requested` reference frames fit [`REFERENCE_BUDGET`], given that the first
+/// took `first`: at least one, at most `requested`.
+fn reference_frames(requested: u32, first: Duration) -> u32 {
+    let fit = REFERENCE_BUDGET.as_secs_f64() / first.as_secs_f64().max(1e-9);
+    requested.min((fit.floor() as u32).max(1))
+}
+
 /// Median milliseconds of `frames` timed frames of `row`.
 fn time_frames(scene: &Scene, fb: &mut Framebuffer, row: Row, frames: u32) -> f64 {
     let opts = options(row);
@@ -203,8 +210,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let reference_row = ROWS[ROWS.len() - 1];
     let (reference, first_time) = render_image(&scene, &mut fb, reference_row);
     save(&fb, reference_row)?;
-    let fit = (REFERENCE_BUDGET.as_secs_f64() / first_time.as_secs_f64().max(1e-9)) as u32;
-    let reference_frames = args.frames.min(fit.max(1));
+    let reference_frames = reference_frames(args.frames, first_time);
     let reference_ms = time_frames(&scene, &mut fb, reference_row, reference_frames);
 
     let mut measured = Vec::with_capacity(ROWS.len());
@@ -276,4 +282,35 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slow_reference_frames_are_timed_within_the_budget_but_at_least_once() {
+        let ms = Duration::from_millis;
+        assert_eq!(reference_frames(3, ms(400)), 3);
+        assert_eq!(reference_frames(3, ms(3_000)), 2);
+        assert_eq!(reference_frames(3, ms(60_000)), 1);
+        assert_eq!(reference_frames(1, Duration::ZERO), 1);
+    }
+
+    #[test]
+    fn rows_cover_every_mode_once_with_distinct_files_and_reference_last() {
+        for mode in ShadingMode::ALL {
+            assert!(
+                ROWS.iter()
+                    .any(|r| r.shading == ShadingChoice::Mode(mode) && r.label == mode.name()),
+                "{mode:?}"
+            );
+        }
+        let mut files: Vec<&str> = ROWS.iter().map(|r| r.file).collect();
+        files.sort_unstable();
+        files.dedup();
+        assert_eq!(files.len(), ROWS.len());
+        assert_eq!(ROWS[ROWS.len() - 1].label, "reference");
+        assert!(ROWS.iter().any(|r| r.shading == ShadingChoice::Auto));
+    }
 }
