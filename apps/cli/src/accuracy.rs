@@ -5,6 +5,8 @@
 
 use phosphor_math::glam::Vec3;
 
+use crate::font;
+
 /// One step of an 8-bit display: errors above this are visible in a PNG.
 pub const ONE_LSB: f64 = 1.0 / 255.0;
 /// Width of the heat-map's scale bar, in pixels.
@@ -172,6 +174,53 @@ pub fn heat_map(
     })
 }
 
+/// `map` (from [`heat_map`]) widened on the right with the scale bar's numbers: the error at
+/// each quarter tick, white on black, at a text size that suits the image's height (none when
+/// the image is too small to hold them).
+#[must_use]
+pub fn with_scale_labels(map: &Rgb8Image, scale: f32) -> Rgb8Image {
+    let text = if map.height >= 400 { 2 } else { 1 };
+    let labels: Vec<String> = (0..=4)
+        .map(|q| format!("{:.3}", scale * q as f32 / 4.0))
+        .collect();
+    let widest = labels
+        .iter()
+        .map(|l| font::text_width(l, text))
+        .max()
+        .unwrap_or(0);
+    let margin = widest + 4 * text;
+    let width = map.width + margin;
+    let mut out = Rgb8Image {
+        width,
+        height: map.height,
+        data: vec![0; width as usize * map.height as usize * 3],
+    };
+    for y in 0..map.height as usize {
+        let src = y * map.width as usize * 3;
+        let dst = y * width as usize * 3;
+        out.data[dst..dst + map.width as usize * 3]
+            .copy_from_slice(&map.data[src..src + map.width as usize * 3]);
+    }
+    let th = font::text_height(text);
+    if map.height < 5 * th {
+        return out;
+    }
+    for (q, label) in labels.iter().enumerate() {
+        // The tick rows of heat_map's bar: t = q / 4 at y = (1 - t) (height - 1).
+        let tick_y = ((1.0 - q as f32 / 4.0) * (map.height - 1) as f32).round() as i64;
+        let y = (tick_y - i64::from(th / 2)).clamp(0, i64::from(map.height - th));
+        font::draw_text(
+            &mut out,
+            i64::from(map.width + 2 * text),
+            y,
+            label,
+            text,
+            [255, 255, 255],
+        );
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -258,5 +307,24 @@ mod tests {
         assert_eq!(at(bar_x, 0), heat_colour(1.0));
         assert_eq!(at(bar_x, 1), heat_colour(0.0));
         assert!(heat_map(&image, &reference, 4, 2, 0.5).is_none());
+    }
+
+    #[test]
+    fn scale_labels_widen_the_map_and_keep_it() {
+        let reference = vec![Vec3::ZERO; 100 * 60];
+        let map = heat_map(&reference, &reference, 100, 60, 0.1).expect("sizes match");
+        let labelled = with_scale_labels(&map, 0.1);
+        assert_eq!(labelled.height, map.height);
+        assert!(labelled.width > map.width);
+        let row = |img: &Rgb8Image, y: usize| {
+            img.data[y * img.width as usize * 3..][..map.width as usize * 3].to_vec()
+        };
+        assert_eq!(row(&labelled, 30), row(&map, 30));
+        // Numbers were written in the margin.
+        let margin_lit = (0..labelled.height as usize).any(|y| {
+            (map.width as usize..labelled.width as usize)
+                .any(|x| labelled.data[(y * labelled.width as usize + x) * 3] == 255)
+        });
+        assert!(margin_lit);
     }
 }

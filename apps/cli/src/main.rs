@@ -13,13 +13,11 @@
 //! 1 input error (a file that is missing or wrong, an output that cannot be written), 2 usage
 //! error (clap's own, and an output extension other than `.png`/`.exr`).
 
-#[allow(
-    dead_code,
-    reason = "the comparison math waits for `phosphor accuracy`, being wired"
-)]
 mod accuracy;
 mod args;
 mod commands;
+mod font;
+mod plot;
 
 use std::process::ExitCode;
 

@@ -1,0 +1,165 @@
+//! `phosphor accuracy` end to end: the table, the files, the exit codes.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const MODES: [&str; 8] = [
+    "flat",
+    "gouraud",
+    "gouraud (screen-space)",
+    "fast-phong",
+    "phong",
+    "phong (screen-space)",
+    "auto",
+    "reference",
+];
+
+/// The workspace root (assets are named relative to it).
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn phosphor(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_phosphor"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("the phosphor binary runs")
+}
+
+/// A fresh folder under the target dir for one test's output.
+fn out_dir(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("accuracy-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// One table row: milliseconds, relative time, RMSE, PSNR, max abs, share over 1/255 (%).
+#[derive(Debug)]
+struct Row {
+    ms: f64,
+    rmse: f64,
+    psnr_db: f64,
+    max_abs: f64,
+    share_percent: f64,
+}
+
+/// The row of `mode` in the table (the label is everything before the six numbers).
+fn row(stdout: &str, mode: &str) -> Row {
+    let line = stdout
+        .lines()
+        .find(|l| {
+            let fields: Vec<&str> = l.split_whitespace().collect();
+            fields.len() > 6 && fields[..fields.len() - 6].join(" ") == mode
+        })
+        .unwrap_or_else(|| panic!("no row for {mode} in\n{stdout}"));
+    let fields: Vec<&str> = line.split_whitespace().collect();
+    let n = fields.len();
+    let num = |s: &str| -> f64 {
+        s.trim_end_matches(['x', '%'])
+            .parse()
+            .unwrap_or_else(|_| panic!("`{s}` in `{line}` is not a number"))
+    };
+    Row {
+        ms: num(fields[n - 6]),
+        rmse: num(fields[n - 4]),
+        psnr_db: num(fields[n - 3]),
+        max_abs: num(fields[n - 2]),
+        share_percent: num(fields[n - 1]),
+    }
+}
+
+fn file_stem(mode: &str) -> String {
+    mode.replace(" (", "-").replace(')', "")
+}
+
+fn assert_report(out: &Output, dir: &Path) -> String {
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "exit {:?}\nstdout:\n{stdout}\nstderr:\n{}",
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("96x72"), "header names the size:\n{stdout}");
+    for mode in MODES {
+        let r = row(&stdout, mode);
+        assert!(r.ms > 0.0 && r.ms.is_finite(), "{mode}: {r:?}");
+        assert!((0.0..=1.0).contains(&r.rmse), "{mode}: {r:?}");
+        assert!((0.0..=100.0).contains(&r.share_percent), "{mode}: {r:?}");
+        let png = dir.join(format!("{}.png", file_stem(mode)));
+        assert!(png.is_file(), "{} missing", png.display());
+        if mode != "reference" {
+            let map = dir.join(format!("{}-error.png", file_stem(mode)));
+            assert!(map.is_file(), "{} missing", map.display());
+        }
+    }
+    let reference = row(&stdout, "reference");
+    assert_eq!(reference.rmse, 0.0);
+    assert_eq!(reference.max_abs, 0.0);
+    assert!(reference.psnr_db.is_infinite());
+    let plot = dir.join("error-vs-time.png");
+    let bytes = std::fs::read(&plot).expect("the plot is written");
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "the plot is a PNG");
+    stdout
+}
+
+#[test]
+fn report_on_the_default_scene_has_every_mode_and_writes_every_file() {
+    let dir = out_dir("default");
+    let d = dir.to_str().expect("utf-8 path");
+    let out = phosphor(&[
+        "accuracy",
+        "--size",
+        "96x72",
+        "--frames",
+        "1",
+        "--out-dir",
+        d,
+    ]);
+    assert_report(&out, &dir);
+}
+
+#[test]
+fn on_s1_phong_is_closer_to_the_reference_than_gouraud() {
+    let dir = out_dir("s1-bunny");
+    let d = dir.to_str().expect("utf-8 path");
+    let out = phosphor(&[
+        "accuracy",
+        "--mesh",
+        "assets/meshes/bunny_small.obj",
+        "--size",
+        "96x72",
+        "--frames",
+        "1",
+        "--out-dir",
+        d,
+    ]);
+    let stdout = assert_report(&out, &dir);
+    let phong = row(&stdout, "phong");
+    let gouraud = row(&stdout, "gouraud");
+    // The seeds' claim: interpolating normals beats interpolating intensities.
+    assert!(
+        phong.rmse < gouraud.rmse,
+        "phong {phong:?} vs gouraud {gouraud:?}"
+    );
+    assert!(gouraud.rmse > 0.0);
+}
+
+#[test]
+fn a_missing_scene_file_is_an_input_error_naming_it() {
+    let out = phosphor(&["accuracy", "no/such/scene.toml", "--size", "32x24"]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.starts_with("error: "), "{stderr}");
+    assert!(stderr.contains("no/such/scene.toml"), "{stderr}");
+    assert!(out.stdout.is_empty(), "no table on error");
+}
+
+#[test]
+fn a_bad_size_is_a_usage_error() {
+    for bad in ["96", "0x72", "axb"] {
+        let out = phosphor(&["accuracy", "--size", bad]);
+        assert_eq!(out.status.code(), Some(2), "--size {bad}");
+    }
+}
