@@ -13,6 +13,17 @@
 //! 1 input error (a file that is missing or wrong, an output that cannot be written), 2 usage
 //! error (clap's own, and an output extension other than `.png`/`.exr`).
 
+/// `println!` that ends the process quietly when stdout is gone (`phosphor info x.obj | head`),
+/// as command-line tools do on a closed pipe, instead of panicking.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if writeln!(std::io::stdout(), $($arg)*).is_err() {
+            std::process::exit(0);
+        }
+    }};
+}
+
 mod accuracy;
 mod args;
 mod commands;

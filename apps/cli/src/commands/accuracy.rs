@@ -166,9 +166,15 @@ fn error_cell(value: f64) -> String {
 }
 
 fn print_table(rows: &[Measured], gouraud_ms: f64) {
-    println!(
+    say!(
         "{:<22}  {:>9}  {:>10}  {:>9}  {:>9}  {:>9}  {:>7}",
-        "mode", "ms/frame", "vs gouraud", "RMSE", "PSNR dB", "max abs", ">1/255"
+        "mode",
+        "ms/frame",
+        "vs gouraud",
+        "RMSE",
+        "PSNR dB",
+        "max abs",
+        ">1/255"
     );
     for m in rows {
         let relative = if gouraud_ms > 0.0 {
@@ -176,7 +182,7 @@ fn print_table(rows: &[Measured], gouraud_ms: f64) {
         } else {
             "-".to_owned()
         };
-        println!(
+        say!(
             "{:<22}  {:>9.1}  {:>10}  {:>9}  {:>9.2}  {:>9}  {:>6.2}%",
             m.row.label,
             m.ms,
@@ -241,7 +247,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     }
 
     let threads = thread_count();
-    println!(
+    say!(
         "scene: {}, {width}x{height}, {threads} thread{}, median of {} frame{} per mode after one untimed",
         scene_name(args),
         if threads == 1 { "" } else { "s" },
@@ -249,7 +255,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         if args.frames == 1 { "" } else { "s" },
     );
     if reference_frames < args.frames {
-        println!(
+        say!(
             "note: reference timed over {reference_frames} frame{} (its first took {:.1} s; budget {} s)",
             if reference_frames == 1 { "" } else { "s" },
             first_time.as_secs_f64(),
@@ -276,7 +282,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             &dir.join("error-vs-time.png"),
             &error_vs_time(&title, &points),
         )?;
-        println!(
+        say!(
             "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), error-vs-time.png",
             dir.display(),
             HEAT_SCALE

@@ -49,7 +49,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         }
         let min = times.iter().copied().fold(f64::INFINITY, f64::min);
         let max = times.iter().copied().fold(0.0f64, f64::max);
-        println!(
+        say!(
             "{} median_ms={:.3} min_ms={min:.3} max_ms={max:.3} frames={}",
             choice.name(),
             median(&times),

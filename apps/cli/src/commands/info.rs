@@ -14,9 +14,9 @@ pub fn run(args: &InfoArgs) -> Result<(), CliError> {
     for w in warnings {
         eprintln!("warning: {w}");
     }
-    println!("file:             {}", args.mesh.display());
-    println!("{}", mesh.stats());
-    println!(
+    say!("file:             {}", args.mesh.display());
+    say!("{}", mesh.stats());
+    say!(
         "groups:           {}",
         if mesh.groups.is_empty() {
             "none".to_owned()
@@ -24,7 +24,7 @@ pub fn run(args: &InfoArgs) -> Result<(), CliError> {
             mesh.groups.join(", ")
         }
     );
-    println!(
+    say!(
         "texture coords:   {}",
         if mesh.uvs.is_some() { "yes" } else { "no" }
     );

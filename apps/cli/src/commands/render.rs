@@ -123,8 +123,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let elapsed = start.elapsed();
     progress.finish();
     if args.plan {
-        print!("{}", report.plan);
-        println!(
+        say!("{}", report.plan.to_string().trim_end());
+        say!(
             "plan time: {:.3} ms, raster time: {:.3} ms",
             report.plan_time.as_secs_f64() * 1e3,
             report.raster_time.as_secs_f64() * 1e3
@@ -140,7 +140,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     write_image(&fb, out, encoding)?;
     let s = report.stats;
-    println!(
+    say!(
         "rendered {} in {:.1} ms: {width}x{height}, {} of {} triangles drawn, {} pixels shaded{}",
         out.display(),
         elapsed.as_secs_f64() * 1e3,
