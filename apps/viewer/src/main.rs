@@ -1,7 +1,7 @@
 //! `phosphor-viewer`: the real-time window onto a Phosphor scene.
 //!
 //! ```text
-//! phosphor-viewer [SCENE.toml] [--mesh FILE.obj] [--size WxH] [--frames N --screenshot FILE.png]
+//! phosphor-viewer [SCENE.toml] [--mesh FILE.obj] [--size WxH] [--shading MODE] [--frames N --screenshot FILE.png]
 //! ```
 //!
 //! This file is about rendering: what is drawn and how the title describes it. The window
@@ -33,7 +33,7 @@ const MAX_SIDE: u32 = 16_384;
     name = "phosphor-viewer",
     version,
     about = "Real-time viewer for Phosphor scenes (CPU scan-line rasterizer)",
-    after_help = "Examples:\n  phosphor-viewer\n  phosphor-viewer assets/scenes/s1.toml\n  phosphor-viewer --mesh assets/meshes/teapot.obj --size 1280x720\n  phosphor-viewer --frames 10 --screenshot shot.png\n\nPress H in the window for the key list."
+    after_help = "Examples:\n  phosphor-viewer\n  phosphor-viewer assets/scenes/s1.toml\n  phosphor-viewer --mesh assets/meshes/teapot.obj --size 1280x720\n  phosphor-viewer --frames 10 --screenshot shot.png\n  phosphor-viewer assets/scenes/s1.toml --shading phong --size 1280x720 --frames 100\n\nIn --frames mode the viewer prints `frames=N mean_ms=X fps=Y triangles=T` when it exits.\nPress H in the window for the key list."
 )]
 struct Args {
     /// Scene file (TOML); the embedded default scene when absent.
@@ -44,12 +44,20 @@ struct Args {
     /// Window inner size in physical pixels.
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     size: Option<(u32, u32)>,
+    /// Start with this shading for every object (`auto`: the scene's own choice per object).
+    #[arg(long, value_name = "MODE", value_parser = parse_shading)]
+    shading: Option<ShadingChoice>,
     /// Draw this many frames, then exit.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     frames: Option<u32>,
     /// Write the last frame as PNG before exiting (after --frames frames, default 1).
     #[arg(long, value_name = "FILE.png")]
     screenshot: Option<PathBuf>,
+}
+
+/// Parses a shading name: `auto` or one of the modes.
+fn parse_shading(text: &str) -> Result<ShadingChoice, String> {
+    text.parse()
 }
 
 /// Parses `WxH` (e.g. `640x480`) into a non-zero size.
@@ -268,7 +276,8 @@ fn main() -> ExitCode {
             return ExitCode::from(1);
         }
     };
-    let viewer = Viewer::new(scene);
+    let mut viewer = Viewer::new(scene);
+    viewer.shading = args.shading.filter(|s| *s != ShadingChoice::Auto);
     if args.frames.is_none() {
         println!("{KEY_HELP}");
     }
