@@ -3,7 +3,7 @@
 //! pixels and threads, and what the frame plan gains by simulating only the effects a scene
 //! calls for. Throughput is covered pixels (`RenderStats::pixels_shaded` of one frame).
 //!
-//! Run everything (about 5 minutes on 2 cores): `cargo bench --bench shading`. One group:
+//! Run everything (under 6 minutes on 2 loaded cores): `cargo bench --bench shading`. One group:
 //! `cargo bench --bench shading -- s1_bunny`. A short preset for quick local runs (10 samples,
 //! short warm-up and measurement): `PHOSPHOR_BENCH_QUICK=1 cargo bench --bench shading`.
 //! On a shared, loaded machine `PHOSPHOR_BENCH_CLOCK=cpu` times the process's CPU time (all
