@@ -111,8 +111,8 @@ fn vertices_on_pixel_centres_and_edges_give_exact_coverage() {
 
 #[test]
 fn right_triangles_with_horizontal_and_vertical_edges_meet_without_cracks() {
-    // Four right triangles around a centre on a pixel centre, legs on a pixel row and
-    // column: a diamond-free square whose inner edges are exactly horizontal and vertical.
+    // Eight right triangles around a centre on a pixel centre: the inner edges run exactly
+    // along a row and a column of pixel centres, the outer ones on pixel centres too.
     let cam = Camera::s1();
     let (cx, cy) = (32.5, 24.5);
     let (l, t, r, b) = (12.5, 8.5, 52.5, 40.5);
@@ -147,7 +147,7 @@ fn t_junction_vertex_on_a_shared_edge_leaves_no_crack() {
     render_all_modes(W, H, &mesh, &Setup::default(), "T-junction");
 }
 
-/// An icosphere-like closed mesh: the shipped UV sphere of radius 1.
+/// A closed mesh: the shipped UV sphere of radius 1 (bit-identical seam and poles).
 fn sphere() -> TriMesh {
     primitives::uv_sphere(1.0, 16, 8).into()
 }
