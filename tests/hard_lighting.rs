@@ -163,7 +163,7 @@ fn shininess_0_1_10000_and_huge_give_bounded_specular() {
 }
 
 #[test]
-fn view_along_the_mirror_direction_peaks_at_ks_il_in_every_mode() {
+fn view_along_the_mirror_direction_peaks_on_the_centre_at_most_ks_il() {
     // The eye on +Z, a light from the eye's direction: R = V at the square's centre, the
     // image centre (between four pixel centres). With n_s = 10000 the lobe is about two
     // pixels wide: every mode stays finite and in [0, 1] and never exceeds ks Il = 0.5, and
