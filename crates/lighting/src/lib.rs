@@ -11,7 +11,9 @@
 //! tube or rect source with its [`Attenuation`]; [`LightSet`] prepares them once per draw.
 //! [`shade()`] is generic over the [`Effects`] bits so an absent term costs nothing;
 //! [`shade_split()`] keeps the ambient, diffuse and specular sums apart (fast Phong);
-//! [`shade_reference`] is the f64 ground truth; [`PowTable`] is the specular power by table.
+//! [`shade_reference`] is the f64 ground truth; [`PowTable`] is the specular power by table;
+//! [`specular_upper_bound`] bounds the specular sum over a whole triangle (fast Phong's guard
+//! against a highlight between its samples).
 //!
 //! Numerics: no public function returns NaN or Inf for finite input. A zero or non-finite
 //! normal gives `emission + ka Ia` only; a light at the surface point (`d = 0`) shines along
@@ -127,6 +129,7 @@
 #![cfg_attr(test, allow(clippy::unwrap_used))]
 
 pub mod attenuation;
+pub mod bound;
 pub mod effects;
 mod error;
 pub mod fresnel;
@@ -138,6 +141,7 @@ pub mod reference;
 pub mod shade;
 
 pub use attenuation::{Attenuation, MAX_LIGHT_DISTANCE, MIN_ATTENUATION_DENOMINATOR};
+pub use bound::{lobe_sharpness, specular_upper_bound};
 pub use effects::Effects;
 pub use error::LightingError;
 pub use fresnel::{Fresnel, GLASS_F0};

@@ -33,7 +33,8 @@ pub enum MeshError {
         /// The file as given by the caller.
         file: String,
     },
-    /// An error without a line: reported by tobj after our own line scan accepted the file.
+    /// An error without a line: reported by tobj after our own line scan accepted the file,
+    /// or a mesh with no drawable face (every triangle of zero area).
     #[error("{file}: {what}")]
     Invalid {
         /// The file as given by the caller.

@@ -169,6 +169,15 @@ fn parse_with<ML: Fn(&Path) -> tobj::MTLLoadResult>(
         soup.normals = None;
     }
     let mut mesh = soup.build(opts);
+    // DESIGN: a mesh with no drawable face is an error. Faces with repeated or collinear
+    // corners have zero area: they would load, then render nothing at all.
+    let degenerate = mesh.degenerate_count();
+    if degenerate == mesh.indices.len() {
+        return Err(invalid(
+            file,
+            format!("no drawable face: all {degenerate} triangles have zero area"),
+        ));
+    }
     mesh.materials = materials;
     for m in models.iter().filter(|m| !m.mesh.indices.is_empty()) {
         if !mesh.groups.contains(&m.name) {

@@ -103,6 +103,89 @@ fn file_without_faces_is_an_error_naming_the_file() {
 }
 
 #[test]
+fn file_whose_faces_all_have_zero_area_is_an_error_naming_the_file() {
+    // DESIGN: a mesh with no drawable face is an error (it would render nothing).
+    for text in [
+        format!("{TRI}f 1 1 1\nf 1 2 2\n"),
+        "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n".to_owned(),
+        "v 0 0 0\nv 0 0 0\nv 0 0 0\nv 0 0 0\nf 1 2 3 4\n".to_owned(),
+    ] {
+        let e = error_of(&text);
+        assert!(
+            e.to_string().starts_with("case.obj: no drawable face"),
+            "{e}"
+        );
+    }
+    // One good face among degenerate ones loads.
+    let text = format!("{TRI}f 1 1 1\nf 1 2 3\n");
+    assert!(parse_obj(&text, "case.obj", None, &NormalOptions::default()).is_ok());
+}
+
+#[test]
+fn huge_and_malformed_indices_name_their_line() {
+    assert_line(
+        &format!("{TRI}f 1 2 99999999999999999999\n"),
+        4,
+        "malformed vertex index",
+    );
+    assert_line(&format!("{TRI}f 1 2 4294967296\n"), 4, "out of range");
+    assert_line(
+        &format!("{TRI}f 1 2 -99999999999999999999\n"),
+        4,
+        "malformed vertex index",
+    );
+    assert_line(&format!("{TRI}f 1x 2 3\n"), 4, "malformed vertex index");
+    // A face before any vertex refers to nothing yet.
+    assert_line("f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", 1, "out of range");
+}
+
+#[test]
+fn negative_normal_index_past_the_start_names_its_line() {
+    assert_line(
+        &format!("{TRI}vn 0 0 1\nf 1//-2 2//1 3//1\n"),
+        5,
+        "normal index -2 out of range",
+    );
+}
+
+#[test]
+fn non_finite_normals_and_texture_coordinates_name_their_line() {
+    assert_line(
+        &format!("{TRI}vn nan 0 1\nf 1//1 2//1 3//1\n"),
+        4,
+        "NaN or infinite",
+    );
+    assert_line(
+        &format!("{TRI}vt inf 0\nf 1/1 2/1 3/1\n"),
+        4,
+        "NaN or infinite",
+    );
+}
+
+#[test]
+fn wrong_number_of_coordinates_names_its_line() {
+    assert_line(
+        "v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        1,
+        "expected 3 numbers",
+    );
+    assert_line("v 0 0 0 1 5\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 1, "5 values");
+    assert_line(
+        "v 0x1p3 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        1,
+        "malformed number",
+    );
+}
+
+#[test]
+fn blank_comment_only_and_two_corner_files_have_no_faces() {
+    for text in ["   \n\t\n", "# a\n# b\n", &format!("{TRI}f 1 2\n")] {
+        let e = error_of(text);
+        assert!(matches!(e, MeshError::NoFaces { .. }), "{e}");
+    }
+}
+
+#[test]
 fn missing_file_is_an_error_naming_the_file() {
     let e = load_obj(
         Path::new("/nonexistent/dir/mesh.obj"),

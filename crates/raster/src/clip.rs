@@ -5,7 +5,7 @@
 //! inside the fixed-point range ([`phosphor_math::fixed::MAX_FIXED_COORD`]). Attributes are
 //! linear in homogeneous space, so clipped vertices interpolate them with the same `t`.
 
-use glam::Vec4;
+use glam::{DVec4, Vec4};
 
 /// Vertex attributes carried through clipping and interpolation (world position, normal,
 /// uv, tangent, or a Gouraud intensity; the shading mode says which).
@@ -100,35 +100,75 @@ pub fn clip_triangle(tri: &[ClipVertex; 3], n: usize, guard: (f32, f32)) -> Poly
     if all_inside {
         return poly;
     }
+    // Clipped vertices are computed in f64, from the endpoint nearer the plane, and put
+    // exactly on the plane. Interpolating `a + (b - a) t` in f32 between corners 1e12 apart
+    // loses ~1e5 to cancellation (f64 still ~1e4 at 1e20), which threw guard-band vertices
+    // out of the fixed-point range or across the screen: a screen-filling triangle showed a
+    // crack. From the nearer endpoint the error scales with the distance to the plane, and
+    // the choice does not depend on the edge's direction, so two triangles sharing an edge
+    // get the same bits.
+    let mut pos = [DVec4::ZERO; MAX_POLY];
+    let mut attrs = [[0.0; MAX_ATTRS]; MAX_POLY];
+    for (k, v) in tri.iter().enumerate() {
+        pos[k] = v.pos.as_dvec4();
+        attrs[k] = v.attrs;
+    }
+    let mut len = 3;
     for (i, plane) in planes.iter().enumerate() {
-        let dist = |v: &ClipVertex| plane.dot(v.pos) + offset(i);
-        if poly.vertices().iter().all(|v| dist(v) >= 0.0) {
+        let (plane, off) = (plane.as_dvec4(), f64::from(offset(i)));
+        let dist = |p: DVec4| plane.dot(p) + off;
+        if pos[..len].iter().all(|p| dist(*p) >= 0.0) {
             continue;
         }
-        let mut out = Polygon::empty();
-        let verts = poly.vertices();
-        for (k, a) in verts.iter().enumerate() {
-            let b = &verts[(k + 1) % verts.len()];
-            let (da, db) = (dist(a), dist(b));
+        let (mut out_pos, mut out_attrs, mut out_len) = (pos, attrs, 0);
+        let mut emit = |p: DVec4, a: Attrs| {
+            if out_len < MAX_POLY {
+                out_pos[out_len] = p;
+                out_attrs[out_len] = a;
+                out_len += 1;
+            }
+        };
+        for k in 0..len {
+            let next = (k + 1) % len;
+            let (da, db) = (dist(pos[k]), dist(pos[next]));
             if da >= 0.0 {
-                out.push(*a);
+                emit(pos[k], attrs[k]);
             }
             if (da >= 0.0) != (db >= 0.0) {
-                let t = da / (da - db);
-                let mut v = ClipVertex {
-                    pos: a.pos + (b.pos - a.pos) * t,
-                    attrs: a.attrs,
-                };
-                for j in 0..n {
-                    v.attrs[j] = a.attrs[j] + (b.attrs[j] - a.attrs[j]) * t;
+                let a_first = da.abs() < db.abs()
+                    || (da.abs() == db.abs() && pos[k].to_array() < pos[next].to_array());
+                let (from, to) = if a_first { (k, next) } else { (next, k) };
+                let (df, dt) = if a_first { (da, db) } else { (db, da) };
+                let t = df / (df - dt);
+                let mut p = pos[from] + (pos[to] - pos[from]) * t;
+                match i {
+                    0 => p.z = -p.w,
+                    1 => p.w = f64::from(W_MIN),
+                    2 => p.x = f64::from(gx) * p.w,
+                    3 => p.x = -f64::from(gx) * p.w,
+                    4 => p.y = f64::from(gy) * p.w,
+                    _ => p.y = -f64::from(gy) * p.w,
                 }
-                out.push(v);
+                let (a, b) = (&attrs[from], &attrs[to]);
+                let mut v = *a;
+                let tf = t as f32;
+                for j in 0..n {
+                    v[j] = a[j] + (b[j] - a[j]) * tf;
+                }
+                emit(p, v);
             }
         }
-        poly = out;
-        if poly.len < 3 {
+        (pos, attrs, len) = (out_pos, out_attrs, out_len);
+        if len < 3 {
             return Polygon::empty();
         }
+    }
+    let mut poly = Polygon::empty();
+    for k in 0..len {
+        poly.push(ClipVertex {
+            pos: pos[k].as_vec4(),
+            attrs: attrs[k],
+        });
     }
     poly
 }
@@ -163,6 +203,36 @@ mod tests {
         for c in p.vertices() {
             assert!(c.pos.z + c.pos.w >= -1e-6);
             assert_eq!(c.attrs[0], c.pos.x, "attributes follow the position");
+        }
+    }
+
+    #[test]
+    fn triangles_up_to_1e30_across_clip_to_exactly_the_guard_band() {
+        // `a + (b - a) t` lost ~1e5 to cancellation at 1e12 in f32 (and ~1e4 at 1e20 in f64),
+        // which threw guard-band vertices out of range or across the screen: a crack.
+        let g = guard_band(64, 48);
+        for s in [1e6f32, 1e12, 1e20, 1e30] {
+            let huge = [
+                v(-2.4 * s, -1.8 * s, 0.0, 3.0),
+                v(2.4 * s, -1.8 * s, 0.0, 3.0),
+                v(0.0, 1.8 * s, 0.0, 3.0),
+            ];
+            let p = clip_triangle(&huge, 0, g);
+            assert!(p.vertices().len() >= 3, "{s}");
+            // The whole guard band is covered: its four corners are the polygon.
+            let mut corners: Vec<(f32, f32)> = p
+                .vertices()
+                .iter()
+                .map(|c| (c.pos.x / c.pos.w, c.pos.y / c.pos.w))
+                .collect();
+            corners.dedup();
+            assert_eq!(corners.len(), 4, "{s}: {corners:?}");
+            for (x, y) in corners {
+                assert!(
+                    (x.abs() - g.0).abs() <= g.0 * 1e-6 && (y.abs() - g.1).abs() <= g.1 * 1e-6,
+                    "{s}: ({x}, {y})"
+                );
+            }
         }
     }
 

@@ -8,10 +8,13 @@
 //! sub-triangles; when the largest error of the clamped total exceeds
 //! [`FAST_PHONG_TOLERANCE`], the triangle falls back to `phong` (counted in
 //! `RenderStats::fallbacks`), so a large triangle with spread normals never shows the
-//! polynomial's blow-up.
+//! polynomial's blow-up. Ten samples cannot see a highlight narrower than the triangle that
+//! peaks between them, so the fit is also refused when
+//! [`phosphor_lighting::specular_upper_bound`] says the specular could rise more than the
+//! tolerance above the largest sampled value.
 
 use glam::{DVec2, Vec3};
-use phosphor_lighting::{ShadeTerms, shade_split};
+use phosphor_lighting::{ShadeTerms, lobe_sharpness, shade_split, specular_upper_bound};
 
 use super::phong::Phong;
 use super::{Lit, Mode, VertexIn, surface_attrs};
@@ -23,6 +26,12 @@ use crate::setup::TriGeom;
 /// Largest error (per channel, on the `[0, 1]` intensity) the fit may show at the check
 /// points before the triangle falls back to `phong`: one 8-bit code.
 pub const FAST_PHONG_TOLERANCE: f32 = 1.0 / 255.0;
+
+/// Lobes up to this [`phosphor_lighting::lobe_sharpness`] (`n_s` times the squared
+/// angular extent of the triangle) are at least as wide as the triangle: they vary smoothly
+/// across the ten samples, whose checks see any misfit. Sharper ones are checked against the
+/// bound.
+pub const MAX_SMOOTH_LOBE_SHARPNESS: f32 = 1.0;
 
 /// The fast Phong mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
@@ -136,8 +145,8 @@ impl Kernel for PolyKernel {
 }
 
 impl<const FX: u32> FastPhong<'_, FX> {
-    /// Exact terms at screen barycentrics `l` (perspective-correct point and normal).
-    fn exact(&self, geom: &TriGeom, l: [f64; 3]) -> ShadeTerms {
+    /// Perspective-correct surface point and (unnormalized) normal at screen barycentrics `l`.
+    fn surface(geom: &TriGeom, l: [f64; 3]) -> (Vec3, Vec3) {
         let q: [f64; 3] = std::array::from_fn(|i| {
             if geom.perspective {
                 l[i] * geom.v[i].inv_w
@@ -159,13 +168,18 @@ impl<const FX: u32> FastPhong<'_, FX> {
             p += glam::DVec3::new(v.attrs[0] as f64, v.attrs[1] as f64, v.attrs[2] as f64) * scale;
             n += glam::DVec3::new(v.attrs[3] as f64, v.attrs[4] as f64, v.attrs[5] as f64) * scale;
         }
-        shade_split::<FX>(
-            self.lit.set,
-            &self.lit.mat,
-            p.as_vec3(),
-            n.as_vec3(),
-            self.lit.eye,
-        )
+        (p.as_vec3(), n.as_vec3())
+    }
+
+    /// Exact terms at surface point `p` with normal `n`.
+    fn shade(&self, p: Vec3, n: Vec3) -> ShadeTerms {
+        shade_split::<FX>(self.lit.set, &self.lit.mat, p, n, self.lit.eye)
+    }
+
+    /// Exact terms at screen barycentrics `l` (perspective-correct point and normal).
+    fn exact(&self, geom: &TriGeom, l: [f64; 3]) -> ShadeTerms {
+        let (p, n) = Self::surface(geom, l);
+        self.shade(p, n)
     }
 
     /// Fits the quadratics, or `None` when the check points show more than the tolerance.
@@ -179,7 +193,8 @@ impl<const FX: u32> FastPhong<'_, FX> {
             [0.0, 0.5, 0.5],
             [0.5, 0.0, 0.5],
         ];
-        let t = nodes.map(|l| self.exact(geom, l));
+        let surface = nodes.map(|l| Self::surface(geom, l));
+        let t = surface.map(|(p, n)| self.shade(p, n));
         let quad = |f: fn(&ShadeTerms) -> Vec3| Quadratic {
             vertex: [f(&t[0]), f(&t[1]), f(&t[2])],
             mid: [f(&t[3]), f(&t[4]), f(&t[5])],
@@ -207,12 +222,35 @@ impl<const FX: u32> FastPhong<'_, FX> {
             [1.0 / 6.0, 2.0 * third, 1.0 / 6.0],
             [1.0 / 6.0, 1.0 / 6.0, 2.0 * third],
         ];
+        let mut seen = t.iter().fold(Vec3::ZERO, |m, t| m.max(t.specular));
         for l in checks {
-            let err = (clamp_color(poly.total(l)) - clamp_color(self.exact(geom, l).total())).abs();
+            let exact = self.exact(geom, l);
+            let err = (clamp_color(poly.total(l)) - clamp_color(exact.total())).abs();
             let worst = err.max_element();
             if worst.is_nan() || worst > FAST_PHONG_TOLERANCE {
                 return None;
             }
+            seen = seen.max(exact.specular);
+        }
+        // A highlight narrower than the triangle can peak between all ten samples, where the
+        // fit shows nothing: refuse when such a lobe (sharpness above the limit) could rise
+        // above what the samples saw. The bound is loose on a large triangle, so where it
+        // fails it is retried on the four half-size triangles of the nodes (spreads halve).
+        let (set, mat, eye) = (self.lit.set, &self.lit.mat, self.lit.eye);
+        let fits = |corners: [usize; 3]| {
+            let p = corners.map(|i| surface[i].0);
+            let n = corners.map(|i| surface[i].1);
+            lobe_sharpness::<FX>(set, mat, p, n, eye) <= MAX_SMOOTH_LOBE_SHARPNESS
+                || (specular_upper_bound::<FX>(set, mat, p, n, eye) - seen).max_element()
+                    <= FAST_PHONG_TOLERANCE
+        };
+        // Nodes: 0, 1, 2 the corners, 3, 4, 5 the midpoints of edges 01, 12, 20.
+        if !fits([0, 1, 2])
+            && ![[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]]
+                .into_iter()
+                .all(fits)
+        {
+            return None;
         }
         Some(poly)
     }

@@ -215,6 +215,34 @@ fn fast_phong_does_not_blow_up_on_a_screen_filling_triangle_with_spread_normals(
 }
 
 #[test]
+fn fast_phong_refuses_a_fit_that_misses_a_narrow_highlight() {
+    // A flat square, a directional light whose mirror direction is seen off the centre,
+    // n_s = 1000: the highlight peaks between the ten points the fit samples, which all see
+    // almost nothing. Without the specular bound the fit passed and lost a peak of 0.5.
+    let square = TestMesh {
+        positions: [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .map(|(x, y)| Vec3::new(x, y, 0.0))
+            .to_vec(),
+        normals: vec![Vec3::Z; 4],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        ..TestMesh::default()
+    };
+    let light = Light::directional(-Vec3::new(0.1, 0.02, 1.0), Vec3::ONE).unwrap();
+    let set = LightSet::new(Vec3::ZERO, &[light]);
+    let mat = Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::splat(0.5), 1000.0).unwrap();
+    let cam = Camera::s1();
+    let opts = RenderOptions::default();
+    let draw = |mode| draw_image(160, 120, &cam, &[item(&square, &mat, &set, mode)], &opts);
+    let ((fast, stats), (phong, _)) = (draw(ShadingMode::FastPhong), draw(ShadingMode::Phong));
+    assert!(
+        phong.color().iter().any(|c| c.x > 0.4),
+        "the highlight is in the image"
+    );
+    assert_eq!(stats.fallbacks, 2);
+    assert!(diffs(&fast, &phong).iter().all(|d| *d <= ONE_CODE));
+}
+
+#[test]
 fn images_are_bit_identical_for_1_2_and_all_threads() {
     let (sphere, set, mat) = sphere_scene();
     let cam = Camera::s1();
