@@ -3,14 +3,16 @@
 //! the fuzzer once found interesting without needing cargo-fuzz or a nightly toolchain.
 //!
 //! Each file must give a consistent mesh or an error whose message starts with the file's
-//! name, and must never panic. (The scene loader's corpus will sit beside it, in
-//! `fuzz/corpus/scene_loader/`, when that loader and its fuzz target land.)
+//! name, and must never panic. The scene loader's corpus (`fuzz/corpus/scene_loader/`) is
+//! replayed the same way: a scene that renders finite pixels, or an error naming the file.
 
 #![allow(clippy::unwrap_used)]
 
 use std::path::{Path, PathBuf};
 
 use phosphor::mesh::{NormalOptions, load_obj, parse_obj};
+use phosphor::raster::Framebuffer;
+use phosphor::scene::{FrameOptions, Scene, render_frame};
 
 fn corpus(target: &str) -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -65,4 +67,42 @@ fn every_obj_corpus_file_parses_or_fails_with_a_message_naming_it() {
             assert!(e.to_string().starts_with(&format!("{shown}:")), "{e}");
         }
     }
+}
+
+#[test]
+fn every_scene_corpus_file_loads_and_renders_or_fails_with_a_message_naming_it() {
+    let files = corpus("scene_loader");
+    assert!(files.len() >= 10, "the corpus went missing: {files:?}");
+    let mut loaded = 0;
+    for path in files {
+        let bytes = std::fs::read(&path).unwrap();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        // As the fuzz target does: lossy text, relative paths against the working folder.
+        match Scene::parse(&String::from_utf8_lossy(&bytes), &name) {
+            Err(e) => {
+                let msg = e.to_string();
+                assert!(msg.starts_with(&name), "{name}: message {msg:?}");
+                assert!(!msg.contains('\n'), "{name}: message spans lines: {msg:?}");
+            }
+            Ok(scene) => {
+                loaded += 1;
+                let mut fb = Framebuffer::new(16, 12).unwrap();
+                let opts = FrameOptions {
+                    threads: 1,
+                    ..FrameOptions::default()
+                };
+                render_frame(&scene, &mut fb, &opts);
+                assert!(
+                    fb.color()
+                        .iter()
+                        .all(|c| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0),
+                    "{name}: pixels out of range"
+                );
+            }
+        }
+    }
+    assert!(
+        loaded >= 3,
+        "the corpus should hold scenes that load, not only errors"
+    );
 }
