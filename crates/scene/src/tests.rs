@@ -258,6 +258,40 @@ fn planned_and_full(scene: &Scene, mode: ShadingMode) -> (Framebuffer, Framebuff
     (planned, full, report.plan)
 }
 
+/// The planned picture must equal the full kernel's, pixel for pixel. One exception, by design:
+/// where the plan dropped a light (it adds exactly zero), `fast-phong`'s per-triangle fit check
+/// no longer counts that light's specular upper bound, so it may keep a fit the full kernel
+/// refuses (and redraws with `phong`); the two then stay within the fast-phong tolerance.
+fn assert_same_picture(
+    planned: &Framebuffer,
+    full: &Framebuffer,
+    mode: ShadingMode,
+    plan: &FramePlan,
+    label: &str,
+) {
+    let dropped = plan
+        .objects
+        .iter()
+        .any(|o| o.lights.len() < plan.light_names.len());
+    let pairs = || planned.color().iter().zip(full.color());
+    let differing = pairs().filter(|(a, b)| a != b).count();
+    if mode == ShadingMode::FastPhong && dropped {
+        let sq: f64 = pairs()
+            .map(|(a, b)| f64::from((*a - *b).length_squared()) / 3.0)
+            .sum();
+        let rmse = (sq / planned.color().len() as f64).sqrt();
+        assert!(
+            rmse <= f64::from(phosphor_raster::FAST_PHONG_TOLERANCE),
+            "{label} {mode}: {differing} pixels differ, rmse {rmse}\n{plan}"
+        );
+    } else {
+        assert_eq!(
+            differing, 0,
+            "{label} {mode}: {differing} pixels differ\n{plan}"
+        );
+    }
+}
+
 const BASE: &str = r#"
 [camera]
 eye = [0, 0.5, 3]
@@ -310,16 +344,7 @@ fn planned_picture_equals_the_full_kernel_when_terms_are_switched_off() {
                 planned.color().iter().any(|c| c.max_element() > 0.0),
                 "{label}: empty picture"
             );
-            let differing = planned
-                .color()
-                .iter()
-                .zip(full.color())
-                .filter(|(a, b)| a != b)
-                .count();
-            assert_eq!(
-                differing, 0,
-                "{label} {mode}: {differing} pixels differ\n{plan}"
-            );
+            assert_same_picture(&planned, &full, mode, &plan, label);
         }
     }
 }
@@ -337,7 +362,7 @@ fn a_plane_lit_from_behind_drops_that_light_and_keeps_the_picture() {
         let (planned, full, plan) = planned_and_full(&scene, mode);
         assert_eq!(plan.objects[0].lights, vec![0], "{plan}");
         assert!(!plan.objects[0].effects.contains(Effects::ATTENUATION));
-        assert_eq!(planned.color(), full.color(), "{mode}");
+        assert_same_picture(&planned, &full, mode, &plan, "plane lit from behind");
     }
 }
 
