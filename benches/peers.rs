@@ -238,9 +238,20 @@ fn peers(c: &mut Criterion) {
         let e = median_ms(9, || euc.frame(&s, mode));
         let p1 = median_ms(9, || phosphor_frame(&s, &mut fb, mode, 1));
         let pn = median_ms(9, || phosphor_frame(&s, &mut fb, mode, 0));
+        // Both must have drawn the bunny: lit pixels of each image.
+        let euc_px = euc
+            .color
+            .as_ref()
+            .iter()
+            .filter(|c| **c != [0.0; 3])
+            .count();
+        let phosphor_px = (0..HEIGHT)
+            .flat_map(|y| (0..WIDTH).map(move |x| (x, y)))
+            .filter(|&(x, y)| fb.pixel(x, y) != Vec3::ZERO)
+            .count();
         println!(
             "peers {mode:<8} euc_ms={e:.2} phosphor_1t_ms={p1:.2} phosphor_all_ms={pn:.2} \
-             ratio_1t={:.2} ratio_all={:.2}",
+             ratio_1t={:.2} ratio_all={:.2} euc_px={euc_px} phosphor_px={phosphor_px}",
             e / p1,
             e / pn
         );
