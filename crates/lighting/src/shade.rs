@@ -7,7 +7,7 @@
 //! the result equals the all-effects path with that term zeroed.
 
 use glam::Vec3;
-use phosphor_math::{MIN_NORMALIZABLE_LENGTH_SQUARED, clamped_pow, reflect, safe_normalize};
+use phosphor_math::{MIN_NORMALIZABLE_LENGTH_SQUARED, clamped_pow_fast, reflect, safe_normalize};
 
 use crate::attenuation::factor_from_coefficients;
 use crate::effects::Effects;
@@ -204,8 +204,10 @@ impl Sums {
         if has(FX, Effects::SPECULAR) {
             let lobe = match mat.specular {
                 // seeds: (V.R)^ns with R = 2(N.L)N - L.
-                SpecularModel::Phong => clamped_pow(reflect(n, l).dot(v), mat.shininess),
-                SpecularModel::Blinn => clamped_pow(n.dot(safe_normalize(l + v, n)), mat.shininess),
+                SpecularModel::Phong => clamped_pow_fast(reflect(n, l).dot(v), mat.shininess),
+                SpecularModel::Blinn => {
+                    clamped_pow_fast(n.dot(safe_normalize(l + v, n)), mat.shininess)
+                }
             };
             let w = if has(FX, Effects::FRESNEL) {
                 mat.fresnel.w(n_dot_l)

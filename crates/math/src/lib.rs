@@ -120,6 +120,40 @@ pub fn clamped_pow(base: f32, exponent: f32) -> f32 {
     b.powf(e)
 }
 
+/// Integer exponents up to this take [`clamped_pow_fast`]'s repeated-squaring path.
+pub const MAX_SQUARING_EXPONENT: f32 = 256.0;
+
+/// [`clamped_pow`] with the same contract, faster for the common integer shininess: an
+/// integer exponent up to [`MAX_SQUARING_EXPONENT`] is evaluated by repeated squaring (at most
+/// 8 squarings and 8 products, relative error below `n` f32 ulps, under 2e-5 for `n = 256`),
+/// any other exponent by `powf`. The per-pixel specular term uses it: `powf` was a tenth of
+/// Phong shading's instructions.
+#[inline]
+#[must_use]
+#[allow(
+    clippy::manual_clamp,
+    reason = "clamp() propagates NaN; max/min map it to 0"
+)]
+pub fn clamped_pow_fast(base: f32, exponent: f32) -> f32 {
+    let e = exponent.max(0.0);
+    if e > MAX_SQUARING_EXPONENT || e.fract() != 0.0 {
+        return clamped_pow(base, exponent);
+    }
+    let mut b = base.max(0.0).min(1.0);
+    let mut n = e as u32;
+    let mut acc = 1.0;
+    while n > 0 {
+        if n & 1 == 1 {
+            acc *= b;
+        }
+        n >>= 1;
+        if n > 0 {
+            b *= b;
+        }
+    }
+    acc
+}
+
 /// Double-precision [`clamped_pow`], same contract.
 #[inline]
 #[must_use]
@@ -255,6 +289,36 @@ mod tests {
         // Grazing light (N.L = 0) reflects to -L.
         assert!(approx(reflect(n, Vec3::X), -Vec3::X, EPS));
         assert!((reflect_f64(DVec3::Y, DVec3::X) + DVec3::X).length() < 1e-15);
+    }
+
+    #[test]
+    fn fast_pow_matches_powf_on_integer_and_fractional_exponents() {
+        for n in [
+            0.0f32,
+            1.0,
+            2.0,
+            5.0,
+            32.0,
+            100.0,
+            256.0,
+            257.0,
+            32.5,
+            -3.0,
+            f32::NAN,
+        ] {
+            for i in 0..=200 {
+                let x = i as f32 / 200.0;
+                let (fast, exact) = (clamped_pow_fast(x, n), clamped_pow(x, n));
+                assert!((0.0..=1.0).contains(&fast), "{x}^{n} = {fast}");
+                assert!(
+                    (fast - exact).abs() <= 2e-5 * exact.max(1e-30) + 1e-37,
+                    "{x}^{n}: {fast} vs {exact}"
+                );
+            }
+        }
+        assert_eq!(clamped_pow_fast(f32::NAN, 32.0), 0.0);
+        assert_eq!(clamped_pow_fast(0.0, 0.0), 1.0);
+        assert_eq!(clamped_pow_fast(2.0, 8.0), 1.0);
     }
 
     #[test]

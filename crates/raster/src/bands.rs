@@ -72,18 +72,45 @@ pub fn map_chunks<I: Sync, T: Send>(
     }
 }
 
-/// Draws `tris` with `mode` into `fb` over bands; returns the pixels shaded.
+/// `f(0), f(1), .., f(len - 1)`, in parallel on the cached pool when `threads` asks for more
+/// than one (at least `min_len` indices per task), collected in order into one Vec written in
+/// place (no per-chunk Vecs to concatenate).
+pub fn map_indices<T: Send>(
+    threads: usize,
+    len: usize,
+    min_len: usize,
+    f: impl Fn(usize) -> T + Sync + Send,
+) -> Vec<T> {
+    let threads = effective_threads(threads);
+    match (threads > 1 && len > min_len)
+        .then(|| pool(threads))
+        .flatten()
+    {
+        Some(p) => p.install(|| {
+            (0..len)
+                .into_par_iter()
+                .with_min_len(min_len.max(1))
+                .map(f)
+                .collect()
+        }),
+        None => (0..len).map(f).collect(),
+    }
+}
+
+/// Draws the set-up triangles `tris` (in submission order, chunk after chunk, as set-up
+/// produced them: they are not copied into one Vec) with `mode` into `fb` over bands;
+/// returns the pixels shaded.
 pub fn draw_bands<M: Mode>(
     fb: &mut Framebuffer,
     mode: &M,
-    tris: &[Prepared<M::Tri>],
+    tris: &[Vec<Prepared<M::Tri>>],
     threads: usize,
     count: bool,
 ) -> u64 {
     let (width, height) = (fb.width(), fb.height());
     let band_count = height.div_ceil(BAND_ROWS) as usize;
-    let mut bins: Vec<Vec<u32>> = vec![Vec::new(); band_count];
-    for (i, t) in tris.iter().enumerate() {
+    let mut bins: Vec<Vec<&Prepared<M::Tri>>> = vec![Vec::new(); band_count];
+    for t in tris.iter().flatten() {
         let lo = t.geom.row_start.max(0);
         let hi = t.geom.row_end.min(height as i64);
         if lo >= hi {
@@ -94,7 +121,7 @@ pub fn draw_bands<M: Mode>(
             (hi as usize - 1) / BAND_ROWS as usize,
         );
         for bin in &mut bins[b0..=b1] {
-            bin.push(i as u32);
+            bin.push(t);
         }
     }
     let chunk = (BAND_ROWS * width) as usize;
@@ -111,10 +138,7 @@ pub fn draw_bands<M: Mode>(
         };
         bins[b]
             .iter()
-            .map(|&i| {
-                let t = &tris[i as usize];
-                mode.draw(&t.geom, &t.tri, &mut target)
-            })
+            .map(|t| mode.draw(&t.geom, &t.tri, &mut target))
             .sum()
     };
     let threads = effective_threads(threads);

@@ -73,31 +73,47 @@ pub fn guard_band(width: u32, height: u32) -> (f32, f32) {
     )
 }
 
-/// Clips triangle `tri` (attributes `0..n`) against the near plane, `w >= W_MIN` and the guard
-/// band `(gx, gy)`. Returns an empty polygon when nothing is left.
-#[must_use]
-pub fn clip_triangle(tri: &[ClipVertex; 3], n: usize, guard: (f32, f32)) -> Polygon {
-    let (gx, gy) = guard;
-    let planes = [
+/// The six clip planes `p` (a point is inside when `p . pos + plane_offset(i) >= 0`).
+#[inline]
+fn clip_planes((gx, gy): (f32, f32)) -> [Vec4; 6] {
+    [
         Vec4::new(0.0, 0.0, 1.0, 1.0), // near: z + w >= 0
         Vec4::new(0.0, 0.0, 0.0, 1.0), // w >= W_MIN
         Vec4::new(-1.0, 0.0, 0.0, gx), // x <= gx w
         Vec4::new(1.0, 0.0, 0.0, gx),  // x >= -gx w
         Vec4::new(0.0, -1.0, 0.0, gy), // y <= gy w
         Vec4::new(0.0, 1.0, 0.0, gy),  // y >= -gy w
-    ];
-    let offset = |i: usize| if i == 1 { -W_MIN } else { 0.0 };
+    ]
+}
+
+/// The constant term of plane `i` of [`clip_planes`].
+#[inline]
+fn offset(i: usize) -> f32 {
+    if i == 1 { -W_MIN } else { 0.0 }
+}
+
+/// True when `pos` is inside all six clip planes: a triangle of such vertices is not changed
+/// by [`clip_triangle`].
+#[inline]
+#[must_use]
+pub fn inside_clip_volume(pos: Vec4, guard: (f32, f32)) -> bool {
+    clip_planes(guard)
+        .iter()
+        .enumerate()
+        .all(|(i, p)| p.dot(pos) + offset(i) >= 0.0)
+}
+
+/// Clips triangle `tri` (attributes `0..n`) against the near plane, `w >= W_MIN` and the guard
+/// band `(gx, gy)`. Returns an empty polygon when nothing is left.
+#[must_use]
+pub fn clip_triangle(tri: &[ClipVertex; 3], n: usize, guard: (f32, f32)) -> Polygon {
+    let (gx, gy) = guard;
+    let planes = clip_planes(guard);
     let mut poly = Polygon::empty();
     for v in tri {
         poly.push(*v);
     }
-    let all_inside = tri.iter().all(|v| {
-        planes
-            .iter()
-            .enumerate()
-            .all(|(i, p)| p.dot(v.pos) + offset(i) >= 0.0)
-    });
-    if all_inside {
+    if tri.iter().all(|v| inside_clip_volume(v.pos, guard)) {
         return poly;
     }
     // Clipped vertices are computed in f64, from the endpoint nearer the plane, and put

@@ -4,10 +4,10 @@
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use phosphor_lighting::Effects;
 
-use crate::bands::{Prepared, draw_bands, map_chunks};
-use crate::clip::{Attrs, ClipVertex, clip_triangle, guard_band};
+use crate::bands::{Prepared, draw_bands, map_chunks, map_indices};
+use crate::clip::{ClipVertex, clip_triangle, guard_band, inside_clip_volume};
 use crate::framebuffer::{Framebuffer, RasterError};
-use crate::setup::{setup, to_screen};
+use crate::setup::{TriGeom, setup, to_screen};
 use crate::shade::fast_phong::FastPhong;
 use crate::shade::flat::{FillOnly, Flat};
 use crate::shade::gouraud::Gouraud;
@@ -146,38 +146,32 @@ fn vertex_stage(d: &DrawItem, vp: Mat4, threads: usize) -> Vec<(Vec4, VertexIn)>
     };
     let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
     let mesh = &d.mesh;
-    let ids: Vec<usize> = (0..mesh.positions.len()).collect();
-    let chunks = map_chunks(threads, &ids, 4096, |ids| {
-        ids.iter()
-            .map(|&i| {
-                let world = d.model.transform_point3(mesh.positions[i]);
-                let normal = mesh
-                    .normals
-                    .get(i)
-                    .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
-                let uv = mesh
-                    .uvs
-                    .and_then(|u| u.get(i).copied())
-                    .unwrap_or(Vec2::ZERO);
-                let tangent = mesh
-                    .tangents
-                    .and_then(|t| t.get(i).copied())
-                    .map_or(Vec4::ZERO, |t| {
-                        (m3 * t.truncate()).normalize_or_zero().extend(t.w * flip)
-                    });
-                (
-                    vp * world.extend(1.0),
-                    VertexIn {
-                        world,
-                        normal,
-                        uv,
-                        tangent,
-                    },
-                )
-            })
-            .collect::<Vec<_>>()
-    });
-    chunks.concat()
+    map_indices(threads, mesh.positions.len(), 4096, |i| {
+        let world = d.model.transform_point3(mesh.positions[i]);
+        let normal = mesh
+            .normals
+            .get(i)
+            .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
+        let uv = mesh
+            .uvs
+            .and_then(|u| u.get(i).copied())
+            .unwrap_or(Vec2::ZERO);
+        let tangent = mesh
+            .tangents
+            .and_then(|t| t.get(i).copied())
+            .map_or(Vec4::ZERO, |t| {
+                (m3 * t.truncate()).normalize_or_zero().extend(t.w * flip)
+            });
+        (
+            vp * world.extend(1.0),
+            VertexIn {
+                world,
+                normal,
+                uv,
+                tangent,
+            },
+        )
+    })
 }
 
 /// Set-up results of one chunk of triangles.
@@ -199,26 +193,54 @@ fn run<M: Mode>(
 ) {
     let (w, h) = (fb.width(), fb.height());
     let verts = vertex_stage(d, vp, opts.threads);
-    let attrs: Vec<Attrs> = verts.iter().map(|(_, v)| mode.vertex(v)).collect();
     let guard = guard_band(w, h);
+    // Per vertex, once (a mesh vertex is shared by about six triangles): the mode's
+    // attributes and, for a vertex inside every clip plane, its screen vertex. A triangle whose
+    // three vertices are inside is not changed by clipping, so it takes these as they are.
+    let corners = map_indices(opts.threads, verts.len(), 4096, |i| {
+        let cv = ClipVertex {
+            pos: verts[i].0,
+            attrs: mode.vertex(&verts[i].1),
+        };
+        let screen = (cv.pos.is_finite() && inside_clip_volume(cv.pos, guard))
+            .then(|| to_screen(&cv, w, h, M::ATTRS, opts.perspective_correct))
+            .flatten();
+        (cv, screen)
+    });
     let chunks = map_chunks(opts.threads, d.mesh.indices, 1024, |indices| {
         let mut out = ChunkSetup {
             prepared: Vec::with_capacity(indices.len()),
             drawn: 0,
             fallbacks: 0,
         };
+        let emit = |src: &[VertexIn; 3], geom: TriGeom, out: &mut ChunkSetup<M::Tri>| {
+            let tri = mode.triangle(src, &geom);
+            out.fallbacks += u64::from(M::is_fallback(&tri));
+            out.prepared.push(Prepared { geom, tri });
+        };
         for idx in indices {
             if idx.iter().any(|&i| i as usize >= verts.len()) {
                 continue;
             }
-            let src = idx.map(|i| verts[i as usize].1);
-            let tri = idx.map(|i| ClipVertex {
-                pos: verts[i as usize].0,
-                attrs: attrs[i as usize],
-            });
+            let [i0, i1, i2] = idx.map(|i| i as usize);
+            if let (Some(a), Some(b), Some(c)) = (corners[i0].1, corners[i1].1, corners[i2].1) {
+                // The common case: no clipping, screen vertices from the per-vertex pass.
+                if let Some(geom) = setup(
+                    [a, b, c],
+                    M::ATTRS,
+                    opts.perspective_correct,
+                    opts.cull_backfaces,
+                ) {
+                    emit(&[verts[i0].1, verts[i1].1, verts[i2].1], geom, &mut out);
+                    out.drawn += 1;
+                }
+                continue;
+            }
+            let tri = [corners[i0].0, corners[i1].0, corners[i2].0];
             if !tri.iter().all(|v| v.pos.is_finite()) {
                 continue;
             }
+            let src = [verts[i0].1, verts[i1].1, verts[i2].1];
             let poly = clip_triangle(&tri, M::ATTRS, guard);
             let pv = poly.vertices();
             let mut screen = [None; crate::clip::MAX_POLY];
@@ -239,9 +261,7 @@ fn run<M: Mode>(
                 ) else {
                     continue;
                 };
-                let tri = mode.triangle(&src, &geom);
-                out.fallbacks += u64::from(M::is_fallback(&tri));
-                out.prepared.push(Prepared { geom, tri });
+                emit(&src, geom, &mut out);
                 drawn = true;
             }
             out.drawn += u64::from(drawn);
@@ -249,11 +269,11 @@ fn run<M: Mode>(
         out
     });
     stats.triangles_in += d.mesh.indices.len() as u64;
-    let mut prepared = Vec::with_capacity(chunks.iter().map(|c| c.prepared.len()).sum());
+    let mut prepared = Vec::with_capacity(chunks.len());
     for c in chunks {
         stats.triangles_drawn += c.drawn;
         stats.fallbacks += c.fallbacks;
-        prepared.extend(c.prepared);
+        prepared.push(c.prepared);
     }
     stats.pixels_shaded += draw_bands(fb, mode, &prepared, opts.threads, count);
 }

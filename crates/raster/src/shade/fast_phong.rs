@@ -33,6 +33,13 @@ pub const FAST_PHONG_TOLERANCE: f32 = 1.0 / 255.0;
 /// bound.
 pub const MAX_SMOOTH_LOBE_SHARPNESS: f32 = 1.0;
 
+/// Triangles covering less screen area than this (in pixels) are shaded per pixel with `phong`
+/// without trying a fit: the fit evaluates the exact model at ten points, more than such a
+/// triangle has pixels (the S1 bunny at 1080p averages about six pixels a triangle). Exact
+/// Phong is the more accurate of the two, so this only trades speed, and it is not counted
+/// as a fallback.
+pub const MIN_FIT_AREA_PX: f64 = 12.0;
+
 /// The fast Phong mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
 pub struct FastPhong<'a, const FX: u32> {
@@ -95,6 +102,8 @@ pub enum FastTri {
     Poly(PolyTri),
     /// It does not: exact per-pixel Phong for this triangle.
     Phong,
+    /// Too small to be worth a fit ([`MIN_FIT_AREA_PX`]): exact per-pixel Phong.
+    Small,
 }
 
 /// Forward-difference state of one span: value, first and second difference per polynomial.
@@ -270,6 +279,10 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
         surface_attrs(v)
     }
     fn triangle(&self, _: &[VertexIn; 3], geom: &TriGeom) -> FastTri {
+        let [a, b, c] = geom.v.map(|v| DVec2::new(v.x, v.y));
+        if (b - a).perp_dot(c - a).abs() * 0.5 < MIN_FIT_AREA_PX {
+            return FastTri::Small;
+        }
         match self.fit(geom) {
             Some(p) => FastTri::Poly(p),
             None => FastTri::Phong,
@@ -278,7 +291,7 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
     fn draw(&self, geom: &TriGeom, tri: &FastTri, target: &mut BandTarget) -> u64 {
         match tri {
             FastTri::Poly(p) => traverse(geom, &PolyKernel, p, target),
-            FastTri::Phong => traverse(geom, &self.phong(), &(), target),
+            FastTri::Phong | FastTri::Small => traverse(geom, &self.phong(), &(), target),
         }
     }
     fn is_fallback(tri: &FastTri) -> bool {
