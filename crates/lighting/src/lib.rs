@@ -111,15 +111,16 @@
 //! Nanoseconds per `shade::<FX>` call, S1's material (with Schlick Fresnel), point lights with
 //! `1/(1+d)`, each level adding one effect to the previous one
 //! (`cargo bench --bench lighting -- --quick --warm-up-time 0.5 --measurement-time 1`,
-//! criterion median, a shared 2-core machine under load from other builds, so +-10%):
+//! criterion median, on the 2-core development machine, idle, after the specular power moved to
+//! repeated squaring for integer `n_s`; quick runs, so +-10%):
 //!
 //! | effects                 | 1 light | 3 lights | 8 lights |
 //! |-------------------------|--------:|---------:|---------:|
-//! | ambient only            |     2.3 |      2.3 |      2.3 |
-//! | + diffuse               |    25.1 |     31.2 |     47.7 |
-//! | + specular (Phong)      |    38.8 |     56.0 |     99.2 |
-//! | + Fresnel (Schlick)     |    40.9 |     59.8 |    112.3 |
-//! | + attenuation `1/(K+d)` |    41.4 |     63.5 |    120.6 |
+//! | ambient only            |     2.9 |      2.7 |      2.7 |
+//! | + diffuse               |    25.7 |     31.2 |     49.9 |
+//! | + specular (Phong)      |    39.6 |     61.4 |    114.3 |
+//! | + Fresnel (Schlick)     |    40.9 |     60.2 |    115.0 |
+//! | + attenuation `1/(K+d)` |    40.4 |     68.0 |    131.3 |
 //!
 //! Ambient only does not touch the lights (the loops are compiled out). Each call is timed in
 //! isolation, so the lit levels pay the latency of one dependent chain (distance square root,
