@@ -163,17 +163,25 @@ impl Scene {
         load_scene(path)
     }
 
+    /// The entities that have a `T`, in scene order (spawn order).
+    fn entities_with<T: hecs::Component>(&self) -> Vec<Entity> {
+        let mut v: Vec<Entity> = self
+            .world
+            .query::<(Entity, &T)>()
+            .iter()
+            .map(|(e, _)| e)
+            .collect();
+        v.sort_by_key(|e| e.id());
+        v
+    }
+
     /// The camera: the first camera entity, or S1's.
     #[must_use]
     pub fn camera(&self) -> Camera {
-        let mut cams: Vec<(Entity, Camera)> = self
-            .world
-            .query::<(Entity, &Camera)>()
-            .iter()
-            .map(|(e, c)| (e, *c))
-            .collect();
-        cams.sort_by_key(|(e, _)| e.id());
-        cams.first().map_or(Camera::s1(), |(_, c)| *c)
+        self.entities_with::<Camera>()
+            .first()
+            .and_then(|&e| self.world.get::<&Camera>(e).ok().map(|c| *c))
+            .unwrap_or(Camera::s1())
     }
 
     /// Replaces the camera (creating the entity if there is none).
@@ -189,27 +197,20 @@ impl Scene {
     /// The lights with their names, in scene order.
     #[must_use]
     pub fn lights(&self) -> Vec<(String, Light)> {
-        let mut v: Vec<(Entity, String, Light)> = self
-            .world
-            .query::<(Entity, &Name, &Light)>()
-            .iter()
-            .map(|(e, n, l)| (e, n.0.clone(), *l))
-            .collect();
-        v.sort_by_key(|(e, _, _)| e.id());
-        v.into_iter().map(|(_, n, l)| (n, l)).collect()
+        self.light_entities()
+            .into_iter()
+            .filter_map(|e| {
+                let name = self.world.get::<&Name>(e).ok()?.0.clone();
+                let light = *self.world.get::<&Light>(e).ok()?;
+                Some((name, light))
+            })
+            .collect()
     }
 
     /// The light entities, in scene order.
     #[must_use]
     pub fn light_entities(&self) -> Vec<Entity> {
-        let mut v: Vec<Entity> = self
-            .world
-            .query::<(Entity, &Light)>()
-            .iter()
-            .map(|(e, _)| e)
-            .collect();
-        v.sort_by_key(|e| e.id());
-        v
+        self.entities_with::<Light>()
     }
 
     /// Number of lights.
@@ -221,14 +222,7 @@ impl Scene {
     /// The object entities (those with a mesh), in scene order.
     #[must_use]
     pub fn objects(&self) -> Vec<Entity> {
-        let mut v: Vec<Entity> = self
-            .world
-            .query::<(Entity, &MeshRef)>()
-            .iter()
-            .map(|(e, _)| e)
-            .collect();
-        v.sort_by_key(|e| e.id());
-        v
+        self.entities_with::<MeshRef>()
     }
 
     /// Triangles over all objects.
