@@ -141,16 +141,7 @@ fn highlight_between_the_fit_samples_forces_the_fallback() {
     // A flat square under a directional light, the mirror direction seen off the centre:
     // with n_s >= 1000 the highlight is a few pixels wide and peaks between the ten points
     // the fit samples (before the specular bound, the fit passed and missed a peak of 0.5).
-    let square = TriMesh {
-        positions: vec![
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
-        ],
-        normals: vec![Vec3::Z; 4],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
-    };
+    let square = TriMesh::square();
     for shininess in [1e2, 1e3, 1e4] {
         for off in [0.0f32, 0.1, 0.3] {
             let l = Light::directional(-Vec3::new(off, 0.2 * off, 1.0), Vec3::ONE).unwrap();

@@ -20,20 +20,6 @@ const W: u32 = 64;
 const H: u32 = 48;
 const ALL: u32 = Effects::ALL.bits();
 
-/// A square of side 2 in the plane z = 0 facing the S1 camera, split in two, normals +Z.
-fn square() -> TriMesh {
-    TriMesh {
-        positions: vec![
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
-        ],
-        normals: vec![Vec3::Z; 4],
-        indices: vec![[0, 1, 2], [0, 2, 3]],
-    }
-}
-
 fn lit(lights: &[Light], material: Material) -> Setup {
     Setup {
         lights: LightSet::new(Vec3::ONE, lights),
@@ -79,7 +65,9 @@ fn light_on_the_surface_gives_finite_pixels() {
         assert!(r.is_finite() && (r.as_vec3() - i).abs().max_element() <= 1e-3 * i.max_element());
 
         let setup = lit(&[at(Vec3::ZERO), at(Vec3::new(-1.0, -1.0, 0.0))], mat);
-        for (mode, fb, _) in render_all_modes(W, H, &square(), &setup, &format!("{model:?}")) {
+        for (mode, fb, _) in
+            render_all_modes(W, H, &TriMesh::square(), &setup, &format!("{model:?}"))
+        {
             // Light in the plane: N.L = 0 for every surface point but the light's own, so the
             // per-pixel modes show ambient away from it.
             if matches!(mode, ShadingMode::Phong | ShadingMode::Reference) {
@@ -171,7 +159,7 @@ fn view_along_the_mirror_direction_peaks_on_the_centre_at_most_ks_il() {
     let light = Light::directional(-Vec3::Z, Vec3::ONE).unwrap();
     let mat = Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::splat(0.5), 1e4).unwrap();
     let setup = lit(&[light], mat);
-    for (mode, fb, _) in render_all_modes(W, H, &square(), &setup, "V along R") {
+    for (mode, fb, _) in render_all_modes(W, H, &TriMesh::square(), &setup, "V along R") {
         let brightest = fb
             .color()
             .iter()
@@ -206,7 +194,7 @@ fn n_dot_l_exactly_zero_gives_exactly_ambient() {
         let i = shade::<ALL>(&set, &mat, p, Vec3::Z, Vec3::new(0.0, 0.0, 3.0));
         assert_eq!(i, mat.ka, "at {p}");
     }
-    for (mode, fb, _) in render_all_modes(W, H, &square(), &lit(&lights, mat), "N.L = 0") {
+    for (mode, fb, _) in render_all_modes(W, H, &TriMesh::square(), &lit(&lights, mat), "N.L = 0") {
         for (c, z) in fb.color().iter().zip(fb.depth()) {
             if *z < 1.0 {
                 assert!((*c - mat.ka).abs().max_element() < 1e-6, "{mode}: {c}");
@@ -236,7 +224,7 @@ fn sixteen_lights_summing_past_one_clamp_to_exactly_one() {
         Vec3::new(0.0, 0.0, 3.0),
     );
     assert!(raw.min_element() > 5.0 && raw.is_finite(), "{raw}");
-    for (mode, fb, _) in render_all_modes(W, H, &square(), &setup, "16 lights") {
+    for (mode, fb, _) in render_all_modes(W, H, &TriMesh::square(), &setup, "16 lights") {
         assert!(covered_pixels(&fb) > 0);
         for (c, z) in fb.color().iter().zip(fb.depth()) {
             if *z < 1.0 {
@@ -282,7 +270,7 @@ fn inverse_square_near_zero_distance_is_capped_and_finite() {
             material: mat,
             ..Setup::default()
         };
-        render_all_modes(W, H, &square(), &setup, &format!("d {d}"));
+        render_all_modes(W, H, &TriMesh::square(), &setup, &format!("d {d}"));
     }
     assert!(
         (last - cap).abs() <= cap * 1e-6,

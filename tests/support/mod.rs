@@ -26,6 +26,20 @@ pub struct TriMesh {
 }
 
 impl TriMesh {
+    /// A square of side 2 in the plane z = 0 facing the S1 camera, split in two, normals +Z.
+    pub fn square() -> TriMesh {
+        TriMesh {
+            positions: vec![
+                Vec3::new(-1.0, -1.0, 0.0),
+                Vec3::new(1.0, -1.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(-1.0, 1.0, 0.0),
+            ],
+            normals: vec![Vec3::Z; 4],
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+        }
+    }
+
     /// A mesh of separate triangles, each corner with its own vertex, normals `+Z`.
     pub fn soup(tris: &[[Vec3; 3]]) -> TriMesh {
         let mut m = TriMesh::default();
