@@ -13,7 +13,8 @@
 //! [`shade_split()`] keeps the ambient, diffuse and specular sums apart (fast Phong);
 //! [`shade_reference`] is the f64 ground truth; [`PowTable`] is the specular power by table;
 //! [`specular_upper_bound`] bounds the specular sum over a whole triangle (fast Phong's guard
-//! against a highlight between its samples).
+//! against a highlight between its samples). [`shade_x4()`] shades four points per call
+//! ([`Vec3x4`] lanes, SIMD), bit for bit what four [`shade()`] calls give.
 //!
 //! Numerics: no public function returns NaN or Inf for finite input. A zero or non-finite
 //! normal gives `emission + ka Ia` only; a light at the surface point (`d = 0`) shines along
@@ -140,6 +141,7 @@ pub mod material;
 pub mod pow_table;
 pub mod reference;
 pub mod shade;
+pub mod wide4;
 
 pub use attenuation::{Attenuation, MAX_LIGHT_DISTANCE, MIN_ATTENUATION_DENOMINATOR};
 pub use bound::{lobe_sharpness, specular_upper_bound};
@@ -152,6 +154,7 @@ pub use material::{Material, SpecularModel};
 pub use pow_table::PowTable;
 pub use reference::shade_reference;
 pub use shade::{ShadeTerms, finite_intensity, shade, shade_canonical, shade_dyn, shade_split};
+pub use wide4::{Vec3x4, f32x4, shade_x4};
 
 #[cfg(test)]
 mod tests;
