@@ -7,3 +7,4 @@ mod numerics;
 mod properties;
 mod seeds;
 mod support;
+mod wide4;
