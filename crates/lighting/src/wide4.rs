@@ -249,6 +249,9 @@ fn safe_normalize_x4(v: Vec3x4, fallback: Vec3x4) -> (Vec3x4, f32x4) {
     // A finite squared length means finite components; NaN fails both comparisons.
     let plain = len_sq.cmp_ge(f32x4::splat(MIN_NORMALIZABLE_LENGTH_SQUARED))
         & len_sq.cmp_le(f32x4::splat(f32::MAX));
+    if plain.all() {
+        return (unit, len);
+    }
     let out = Vec3x4::select(plain, unit, fallback);
     // An infinite squared length is either an infinite component (fallback) or an overflow
     // that safe_normalize rescales: both rare, both left to the scalar function.
@@ -299,37 +302,48 @@ impl Power {
     #[inline(always)]
     fn of(shininess: f32) -> Power {
         let e = shininess.max(0.0);
-        if e > MAX_SQUARING_EXPONENT || e.fract() != 0.0 {
-            Power::Powf(shininess)
-        } else {
-            #[allow(
-                clippy::cast_possible_truncation,
-                clippy::cast_sign_loss,
-                reason = "an integer in [0, 256], as in clamped_pow_fast"
-            )]
-            Power::Squaring(e as u32)
+        if e > MAX_SQUARING_EXPONENT {
+            return Power::Powf(shininess);
         }
+        // `e` is in [0, 256] (NaN became 0): it is an integer (`fract() == 0`) exactly when it
+        // survives the round trip through u32, without the libm call `fract` makes.
+        #[allow(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            clippy::cast_precision_loss,
+            reason = "e is in [0, 256]"
+        )]
+        let n = e as u32;
+        #[allow(clippy::cast_precision_loss, reason = "n <= 256")]
+        if n as f32 != e {
+            return Power::Powf(shininess);
+        }
+        Power::Squaring(n)
     }
 
     /// `clamped_pow_fast(base[i], shininess)` per lane.
     #[inline(always)]
     fn pow(self, base: f32x4) -> f32x4 {
         match self {
-            Power::Squaring(mut n) => {
+            Power::Squaring(0) => ONE,
+            Power::Squaring(n) => {
+                // The scalar loop squares `b` while bits remain and multiplies the accumulator
+                // (from 1.0) by `b` at each set bit. Its first product is 1.0 * b, exactly b:
+                // square up to the lowest set bit, take b, then run the same loop on the rest.
                 let mut b = min_c(max_c(base, ZERO), ONE);
-                // The scalar accumulator starts at 1.0; 1.0 * b is exactly b, so start at the
-                // first factor instead.
-                let mut acc: Option<f32x4> = None;
-                while n > 0 {
-                    if n & 1 == 1 {
-                        acc = Some(acc.map_or(b, |a| a * b));
-                    }
-                    n >>= 1;
-                    if n > 0 {
-                        b = b * b;
-                    }
+                for _ in 0..n.trailing_zeros() {
+                    b *= b;
                 }
-                acc.unwrap_or(ONE)
+                let mut acc = b;
+                let mut rest = n >> n.trailing_zeros() >> 1;
+                while rest > 0 {
+                    b *= b;
+                    if rest & 1 == 1 {
+                        acc *= b;
+                    }
+                    rest >>= 1;
+                }
+                acc
             }
             Power::Powf(e) => powf_lanes(base, e),
         }
@@ -579,4 +593,66 @@ pub fn shade_x4<const FX: u32>(
     }
     let ambient = Vec3x4::splat(ambient);
     finite_x4(ambient + finite_x4(acc.diffuse) + finite_x4(acc.specular))
+}
+
+#[cfg(test)]
+mod tests {
+    use phosphor_math::clamped_pow_fast;
+
+    use super::*;
+
+    #[test]
+    fn power_matches_clamped_pow_fast_for_every_squaring_exponent_and_the_powf_path() {
+        let bases = [
+            0.0,
+            -0.0,
+            1e-30,
+            f32::MIN_POSITIVE / 8.0,
+            0.1,
+            0.5,
+            0.6,
+            0.999_999,
+            1.0,
+            1.5,
+            -0.25,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+        ];
+        let mut exponents: Vec<f32> = (0..=300).map(|n| n as f32).collect();
+        exponents.extend([
+            0.5,
+            2.5,
+            255.5,
+            1e6,
+            f32::MAX,
+            f32::INFINITY,
+            -3.0,
+            f32::NAN,
+        ]);
+        for e in exponents {
+            let power = Power::of(e);
+            for quad in bases.chunks(4) {
+                let mut lanes = [0.3; 4];
+                lanes[..quad.len()].copy_from_slice(quad);
+                let got = power.pow(f32x4::new(lanes)).to_array();
+                for (b, g) in lanes.iter().zip(got) {
+                    assert_eq!(g.to_bits(), clamped_pow_fast(*b, e).to_bits(), "{b}^{e}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn min_max_and_neg_follow_the_scalar_semantics() {
+        let x = f32x4::new([f32::NAN, -1.0, 2.0, f32::INFINITY]);
+        let one = f32x4::splat(1.0);
+        assert_eq!(max_c(x, one).to_array(), [1.0, 1.0, 2.0, f32::INFINITY]);
+        assert_eq!(min_c(x, one).to_array(), [1.0, -1.0, 1.0, 1.0]);
+        let z = neg(f32x4::new([0.0, -0.0, 1.0, -2.0])).to_array();
+        assert_eq!(
+            z.map(f32::to_bits),
+            [-0.0f32, 0.0, -1.0, 2.0].map(f32::to_bits)
+        );
+    }
 }
