@@ -22,7 +22,12 @@
 //! Cost: the lights' constants are splatted once per light per call and the Phong lobe
 //! `(V.R)^n` of an integer `n` is the scalar code's repeated squaring on four lanes, so the
 //! common path (directional and point lights, Phong or Blinn, integer shininess, any
-//! attenuation, Fresnel or spot cone) has no per-lane scalar code at all.
+//! attenuation, Fresnel or spot cone) has no per-lane scalar code at all. On S1 (three point
+//! lights with `1/(1+d)`, Phong `n_s = 32`, the rasterizer's `BASE | SPECULAR | ATTENUATION`
+//! instantiation, x86-64 baseline SSE2) one `shade_x4` call retires 214 instructions per
+//! pixel against 634 for `shade` (callgrind), and takes 77-104 ns against 300-308 ns for four
+//! `shade` calls (`cargo bench --bench lighting -- x4/ --quick`, 2-core machine under load:
+//! 2.9x to 4.0x).
 
 use std::ops::{Add, Mul, Sub};
 
