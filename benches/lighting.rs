@@ -1,6 +1,8 @@
 //! Cost per `phosphor_lighting::shade` call as effects are added (ambient only, + diffuse,
-//! + specular, + Fresnel, + attenuation) with 1, 3 and 8 point lights; and four scalar `shade`
-//! calls against one `shade_x4` call on S1's lights and material (`x4/`).
+//! + specular, + Fresnel, + attenuation) with 1, 3 and 8 point lights.
+//!
+//! The `x4/` group: four scalar `shade` calls against one `shade_x4` call on S1's lights and
+//! material.
 //!
 //! Run: `cargo bench --bench lighting -- --quick` (or `-- x4/ --quick` for the SIMD pair)
 
