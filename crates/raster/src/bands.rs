@@ -1,27 +1,104 @@
-//! The parallel split: horizontal bands of [`BAND_ROWS`] scan lines. Triangles are set up once,
-//! binned to the bands they touch, and every band draws its triangles in submission order, so
-//! the picture is bit-identical for any thread count (bands depend on the image, not on the
-//! threads). Bands are sized by work: a 1080-row image has 68 of them, many more than cores.
+//! The parallel split: horizontal bands of [`BAND_ROWS`] scan lines. Triangles are accepted
+//! (culled, rejected when empty) and binned to the bands they touch in parallel chunks, each
+//! chunk's records grouped by band in submission order; every band then sets up and draws its
+//! triangles chunk after chunk, so the picture is bit-identical for any thread count (bands
+//! depend on the image, not on the threads). Bands are sized by work: a 1080-row image has 68
+//! of them, many more than cores.
 
+use std::cell::RefCell;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
 use rayon::prelude::*;
 
 use crate::framebuffer::Framebuffer;
-use crate::scanline::BandTarget;
-use crate::setup::TriGeom;
+use crate::scanline::{BandTarget, Pass, depth_only};
+use crate::setup::{RasterTri, ScreenVertex};
 use crate::shade::Mode;
 
 /// Scan lines per band.
 pub const BAND_ROWS: u32 = 16;
 
-/// A set-up triangle: geometry for the traversal and the mode's data.
-#[derive(Debug, Clone, Copy)]
-pub struct Prepared<T> {
-    /// Screen triangle.
-    pub geom: TriGeom,
-    /// Mode data.
-    pub tri: T,
+/// Marks a [`TriRec`] vertex that lives in its chunk's [`Binned::extra`] (made by clipping).
+pub const EXTRA_VERTEX: u32 = 1 << 31;
+
+/// One triangle to draw: its screen vertices (indices into the draw's per-vertex array, or
+/// with [`EXTRA_VERTEX`] into the chunk's clipped vertices) and the index of its mode data.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct TriRec {
+    /// Vertex references.
+    pub v: [u32; 3],
+    /// Index into [`Binned::tris`].
+    pub tri: u32,
+}
+
+/// The accepted triangles of one chunk, grouped by band.
+#[derive(Debug, Clone, Default)]
+pub struct Binned<T> {
+    /// Records, band by band, in submission order within each band.
+    pub recs: Vec<TriRec>,
+    /// Band `b`'s records are `recs[starts[b]..starts[b + 1]]`.
+    pub starts: Vec<u32>,
+    /// Mode data per accepted triangle.
+    pub tris: Vec<T>,
+    /// Screen vertices made by clipping.
+    pub extra: Vec<ScreenVertex>,
+}
+
+impl<T> Binned<T> {
+    /// Groups `staged` (record, first band, last band) by band, keeping their order.
+    #[must_use]
+    pub fn new(
+        staged: &[(TriRec, u32, u32)],
+        bands: usize,
+        tris: Vec<T>,
+        extra: Vec<ScreenVertex>,
+    ) -> Binned<T> {
+        let mut starts = vec![0u32; bands + 1];
+        for &(_, b0, b1) in staged {
+            for b in b0..=b1 {
+                starts[b as usize + 1] += 1;
+            }
+        }
+        for b in 0..bands {
+            starts[b + 1] += starts[b];
+        }
+        let mut at: Vec<u32> = starts[..bands].to_vec();
+        let mut recs = vec![TriRec::default(); starts[bands] as usize];
+        for &(rec, b0, b1) in staged {
+            for b in b0..=b1 {
+                recs[at[b as usize] as usize] = rec;
+                at[b as usize] += 1;
+            }
+        }
+        Binned {
+            recs,
+            starts,
+            tris,
+            extra,
+        }
+    }
+
+    fn band(&self, b: usize) -> &[TriRec] {
+        match (self.starts.get(b), self.starts.get(b + 1)) {
+            (Some(&lo), Some(&hi)) => &self.recs[lo as usize..hi as usize],
+            _ => &[],
+        }
+    }
+}
+
+/// The bands `[first, last]` that rows `[lo, hi)` touch in an image `height` rows tall, or
+/// `None` when no row is inside it.
+#[must_use]
+pub fn band_range(lo: i64, hi: i64, height: u32) -> Option<(u32, u32)> {
+    let lo = lo.max(0);
+    let hi = hi.min(height as i64);
+    (lo < hi).then(|| {
+        (
+            (lo / BAND_ROWS as i64) as u32,
+            ((hi - 1) / BAND_ROWS as i64) as u32,
+        )
+    })
 }
 
 /// The thread count `threads` stands for (0 = all cores).
@@ -97,49 +174,114 @@ pub fn map_indices<T: Send>(
     }
 }
 
-/// Draws the set-up triangles `tris` (in submission order, chunk after chunk, as set-up
-/// produced them: they are not copied into one Vec) with `mode` into `fb` over bands;
-/// returns the pixels shaded.
+/// Ids of the depth pass: a fresh epoch per band job in the high bits, so ids left in a
+/// thread's scratch by earlier jobs never match.
+static EPOCH: AtomicU64 = AtomicU64::new(1);
+
+thread_local! {
+    /// Per-thread scratch of the depth pass: the nearest triangle's id per band pixel.
+    static IDS: RefCell<Vec<u64>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Draws the binned triangles `chunks` (in submission order, chunk after chunk) with `mode`
+/// into `fb` over bands; `screen` holds the draw's per-vertex screen vertices. Returns the
+/// pixels shaded.
 pub fn draw_bands<M: Mode>(
     fb: &mut Framebuffer,
     mode: &M,
-    tris: &[Vec<Prepared<M::Tri>>],
+    screen: &[Option<ScreenVertex>],
+    chunks: &[Binned<M::Tri>],
+    perspective: bool,
     threads: usize,
     count: bool,
 ) -> u64 {
-    let (width, height) = (fb.width(), fb.height());
-    let band_count = height.div_ceil(BAND_ROWS) as usize;
-    let mut bins: Vec<Vec<&Prepared<M::Tri>>> = vec![Vec::new(); band_count];
-    for t in tris.iter().flatten() {
-        let lo = t.geom.row_start.max(0);
-        let hi = t.geom.row_end.min(height as i64);
-        if lo >= hi {
-            continue;
+    let width = fb.width();
+    let n = M::ATTRS;
+    // Set-up of record `r` of chunk `c` into `t`; false when it has no vertices or no area.
+    let setup = |t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec| -> bool {
+        let vert = |i: u32| {
+            if i & EXTRA_VERTEX != 0 {
+                c.extra.get((i & !EXTRA_VERTEX) as usize)
+            } else {
+                screen.get(i as usize).and_then(Option::as_ref)
+            }
+        };
+        match (vert(r.v[0]), vert(r.v[1]), vert(r.v[2])) {
+            (Some(a), Some(b), Some(d)) => t.set([a, b, d], n, perspective),
+            _ => false,
         }
-        let (b0, b1) = (
-            lo as usize / BAND_ROWS as usize,
-            (hi as usize - 1) / BAND_ROWS as usize,
-        );
-        for bin in &mut bins[b0..=b1] {
-            bin.push(t);
-        }
-    }
+    };
     let chunk = (BAND_ROWS * width) as usize;
     let (color, depth) = (&mut fb.color, &mut fb.depth);
     let run = |(b, (color, depth)): (usize, (&mut [glam::Vec3], &mut [f32]))| -> u64 {
         let y0 = b as i64 * BAND_ROWS as i64;
+        let y1 = y0 + (color.len() / width as usize) as i64;
+        let in_band: usize = chunks.iter().map(|c| c.band(b).len()).sum();
+        let mut t = RasterTri::empty();
         let mut target = BandTarget {
-            y1: y0 + (color.len() / width as usize) as i64,
             color,
             depth,
             width,
             y0,
+            y1,
             count,
+            pass: Pass::Full,
+            ids: &[],
         };
-        bins[b]
-            .iter()
-            .map(|t| mode.draw(&t.geom, &t.tri, &mut target))
-            .sum()
+        if !M::EARLY_Z || count || in_band < 2 {
+            let mut shaded = 0;
+            for c in chunks {
+                for r in c.band(b) {
+                    if let Some(tri) = c.tris.get(r.tri as usize) {
+                        if setup(&mut t, c, r) {
+                            shaded += mode.draw(&t, tri, &mut target);
+                        }
+                    }
+                }
+            }
+            return shaded;
+        }
+        let BandTarget { color, depth, .. } = target;
+        IDS.with(|ids| {
+            let mut ids = ids.borrow_mut();
+            if ids.len() < color.len() {
+                ids.resize(color.len(), 0);
+            }
+            let mut target = BandTarget {
+                color,
+                depth,
+                width,
+                y0,
+                y1,
+                count,
+                pass: Pass::Full,
+                ids: &[],
+            };
+            let epoch = EPOCH.fetch_add(1, Ordering::Relaxed) << 32;
+            let mut seq = epoch;
+            for c in chunks {
+                for r in c.band(b) {
+                    if setup(&mut t, c, r) {
+                        depth_only(&t, &mut target, &mut ids, seq);
+                    }
+                    seq += 1;
+                }
+            }
+            target.ids = &ids;
+            let (mut shaded, mut seq) = (0, epoch);
+            for c in chunks {
+                for r in c.band(b) {
+                    if let Some(tri) = c.tris.get(r.tri as usize) {
+                        if setup(&mut t, c, r) {
+                            target.pass = Pass::Visible(seq);
+                            shaded += mode.draw(&t, tri, &mut target);
+                        }
+                    }
+                    seq += 1;
+                }
+            }
+            shaded
+        })
     };
     let threads = effective_threads(threads);
     match (threads > 1).then(|| pool(threads)).flatten() {

@@ -4,10 +4,12 @@
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use phosphor_lighting::Effects;
 
-use crate::bands::{Prepared, draw_bands, map_chunks, map_indices};
+use crate::bands::{
+    BAND_ROWS, Binned, EXTRA_VERTEX, TriRec, band_range, draw_bands, map_chunks, map_indices,
+};
 use crate::clip::{ClipVertex, clip_triangle, guard_band, inside_clip_volume};
 use crate::framebuffer::{Framebuffer, RasterError};
-use crate::setup::{TriGeom, setup, to_screen};
+use crate::setup::{ScreenVertex, row_range, screen_area2, to_screen};
 use crate::shade::fast_phong::FastPhong;
 use crate::shade::flat::{FillOnly, Flat};
 use crate::shade::gouraud::Gouraud;
@@ -176,12 +178,25 @@ fn vertex_stage(d: &DrawItem, vp: Mat4, threads: usize) -> Vec<(Vec4, VertexIn)>
 
 /// Set-up results of one chunk of triangles.
 struct ChunkSetup<T> {
-    prepared: Vec<Prepared<T>>,
+    binned: Binned<T>,
     drawn: u64,
     fallbacks: u64,
 }
 
-/// Runs mode `M` over one draw: vertex stage, clip, set-up (in parallel, in order), bands.
+/// Accepts a screen triangle: not degenerate, not culled, covering at least one row of pixel
+/// centres. Returns its rows (not clipped to the image).
+#[inline]
+fn accept(v: [&ScreenVertex; 3], cull_backfaces: bool) -> Option<(i64, i64)> {
+    let area = screen_area2(v[0], v[1], v[2]);
+    if area == 0 || (cull_backfaces && area > 0) {
+        return None;
+    }
+    let rows = row_range([v[0].fy, v[1].fy, v[2].fy]);
+    (rows.0 < rows.1).then_some(rows)
+}
+
+/// Runs mode `M` over one draw: vertex stage, clip, accept and bin (in parallel, in order),
+/// then set-up and traversal per band.
 fn run<M: Mode>(
     fb: &mut Framebuffer,
     vp: Mat4,
@@ -194,86 +209,102 @@ fn run<M: Mode>(
     let (w, h) = (fb.width(), fb.height());
     let verts = vertex_stage(d, vp, opts.threads);
     let guard = guard_band(w, h);
+    let persp = opts.perspective_correct;
     // Per vertex, once (a mesh vertex is shared by about six triangles): the mode's
     // attributes and, for a vertex inside every clip plane, its screen vertex. A triangle whose
     // three vertices are inside is not changed by clipping, so it takes these as they are.
-    let corners = map_indices(opts.threads, verts.len(), 4096, |i| {
-        let cv = ClipVertex {
-            pos: verts[i].0,
-            attrs: mode.vertex(&verts[i].1),
-        };
-        let screen = (cv.pos.is_finite() && inside_clip_volume(cv.pos, guard))
-            .then(|| to_screen(&cv, w, h, M::ATTRS, opts.perspective_correct))
-            .flatten();
-        (cv, screen)
+    let clip = map_indices(opts.threads, verts.len(), 4096, |i| ClipVertex {
+        pos: verts[i].0,
+        attrs: mode.vertex(&verts[i].1),
     });
+    let screen = map_indices(opts.threads, verts.len(), 4096, |i| {
+        let cv = &clip[i];
+        (cv.pos.is_finite() && inside_clip_volume(cv.pos, guard))
+            .then(|| to_screen(cv, w, h, M::ATTRS, persp))
+            .flatten()
+    });
+    let bands = h.div_ceil(BAND_ROWS) as usize;
+    let on_screen = |v: [&ScreenVertex; 3], rows: (i64, i64)| {
+        let (x0, x1) = row_range([v[0].fx, v[1].fx, v[2].fx]);
+        let cols = x0.max(0) < x1.min(w as i64);
+        band_range(rows.0, rows.1, h).filter(|_| cols)
+    };
     let chunks = map_chunks(opts.threads, d.mesh.indices, 1024, |indices| {
-        let mut out = ChunkSetup {
-            prepared: Vec::with_capacity(indices.len()),
-            drawn: 0,
-            fallbacks: 0,
-        };
-        let emit = |src: &[VertexIn; 3], geom: TriGeom, out: &mut ChunkSetup<M::Tri>| {
-            let tri = mode.triangle(src, &geom);
-            out.fallbacks += u64::from(M::is_fallback(&tri));
-            out.prepared.push(Prepared { geom, tri });
-        };
+        let mut staged: Vec<(TriRec, u32, u32)> = Vec::with_capacity(indices.len());
+        let mut tris = Vec::with_capacity(indices.len());
+        let mut extra = Vec::new();
+        let (mut drawn, mut fallbacks) = (0, 0);
         for idx in indices {
             if idx.iter().any(|&i| i as usize >= verts.len()) {
                 continue;
             }
             let [i0, i1, i2] = idx.map(|i| i as usize);
-            if let (Some(a), Some(b), Some(c)) = (corners[i0].1, corners[i1].1, corners[i2].1) {
+            let src = [verts[i0].1, verts[i1].1, verts[i2].1];
+            if let (Some(a), Some(b), Some(c)) = (&screen[i0], &screen[i1], &screen[i2]) {
                 // The common case: no clipping, screen vertices from the per-vertex pass.
-                if let Some(geom) = setup(
-                    [a, b, c],
-                    M::ATTRS,
-                    opts.perspective_correct,
-                    opts.cull_backfaces,
-                ) {
-                    emit(&[verts[i0].1, verts[i1].1, verts[i2].1], geom, &mut out);
-                    out.drawn += 1;
+                let Some(rows) = accept([a, b, c], opts.cull_backfaces) else {
+                    continue;
+                };
+                drawn += 1;
+                if let Some((b0, b1)) = on_screen([a, b, c], rows) {
+                    let tri = mode.triangle(&src, &[*a, *b, *c], persp);
+                    fallbacks += u64::from(M::is_fallback(&tri));
+                    let rec = TriRec {
+                        v: idx.map(|i| i),
+                        tri: tris.len() as u32,
+                    };
+                    tris.push(tri);
+                    staged.push((rec, b0, b1));
                 }
                 continue;
             }
-            let tri = [corners[i0].0, corners[i1].0, corners[i2].0];
+            let tri = [clip[i0], clip[i1], clip[i2]];
             if !tri.iter().all(|v| v.pos.is_finite()) {
                 continue;
             }
-            let src = [verts[i0].1, verts[i1].1, verts[i2].1];
             let poly = clip_triangle(&tri, M::ATTRS, guard);
             let pv = poly.vertices();
-            let mut screen = [None; crate::clip::MAX_POLY];
-            for (s, v) in screen.iter_mut().zip(pv) {
-                *s = to_screen(v, w, h, M::ATTRS, opts.perspective_correct);
+            let mut sv = [None; crate::clip::MAX_POLY];
+            for (s, v) in sv.iter_mut().zip(pv) {
+                *s = to_screen(v, w, h, M::ATTRS, persp);
             }
-            let mut drawn = false;
+            let mut any = false;
             // The clipped polygon is convex: a fan keeps the winding.
             for k in 1..pv.len().saturating_sub(1) {
-                let (Some(a), Some(b), Some(c)) = (screen[0], screen[k], screen[k + 1]) else {
+                let (Some(a), Some(b), Some(c)) = (&sv[0], &sv[k], &sv[k + 1]) else {
                     continue;
                 };
-                let Some(geom) = setup(
-                    [a, b, c],
-                    M::ATTRS,
-                    opts.perspective_correct,
-                    opts.cull_backfaces,
-                ) else {
+                let Some(rows) = accept([a, b, c], opts.cull_backfaces) else {
                     continue;
                 };
-                emit(&src, geom, &mut out);
-                drawn = true;
+                any = true;
+                if let Some((b0, b1)) = on_screen([a, b, c], rows) {
+                    let tri = mode.triangle(&src, &[*a, *b, *c], persp);
+                    fallbacks += u64::from(M::is_fallback(&tri));
+                    let base = extra.len() as u32;
+                    extra.extend([*a, *b, *c]);
+                    let rec = TriRec {
+                        v: [base, base + 1, base + 2].map(|i| i | EXTRA_VERTEX),
+                        tri: tris.len() as u32,
+                    };
+                    tris.push(tri);
+                    staged.push((rec, b0, b1));
+                }
             }
-            out.drawn += u64::from(drawn);
+            drawn += u64::from(any);
         }
-        out
+        ChunkSetup {
+            binned: Binned::new(&staged, bands, tris, extra),
+            drawn,
+            fallbacks,
+        }
     });
     stats.triangles_in += d.mesh.indices.len() as u64;
-    let mut prepared = Vec::with_capacity(chunks.len());
+    let mut binned = Vec::with_capacity(chunks.len());
     for c in chunks {
         stats.triangles_drawn += c.drawn;
         stats.fallbacks += c.fallbacks;
-        prepared.push(c.prepared);
+        binned.push(c.binned);
     }
-    stats.pixels_shaded += draw_bands(fb, mode, &prepared, opts.threads, count);
+    stats.pixels_shaded += draw_bands(fb, mode, &screen, &binned, persp, opts.threads, count);
 }

@@ -1,22 +1,30 @@
-//! Scan-line traversal (per scan line and span): the seeds' incremental interpolation.
+//! Traversal per scan line and span, over a triangle's bounding box.
 //!
-//! Coverage is exact: the left and right edge positions at each row centre are rational numbers
-//! evaluated in integers from the fixed-point vertices, and a span covers the pixels
-//! `[ceil(xl - 0.5), ceil(xr - 0.5))` of rows `ceil(y0 - 0.5) .. ceil(y2 - 0.5)` (a top-left
-//! rule for spans). Two triangles sharing an edge evaluate it from the same two integer
-//! endpoints in the same top-to-bottom order, so they split its pixels without gap or overlap.
+//! Coverage is exact: three integer edge functions at the fixed-point pixel centres with a
+//! top-left rule ([`RasterTri`]), stepped by one add per pixel. A row's covered pixels are
+//! contiguous (the triangle is convex), so each row is one span: found by stepping the edges
+//! across a narrow box, or by one exact division per edge on a wide one. Two triangles sharing
+//! an edge evaluate it from the same two integer endpoints, so they split its pixels without gap
+//! or overlap.
 //!
-//! Attributes follow the seeds: along the left edge each value steps by
-//! `(A_bottom - A_top) / (y_bottom - y_top)` per scan line (`I' = I + (I2 - I1)/(y1 - y2)`),
-//! and along the span by the triangle's constant `dA/dx` (`(I5 - I4)/(x5 - x4)`), never
-//! re-solved per pixel. With perspective the stepped values are `A/w` and `1/w`, divided per pixel.
+//! Attributes follow the seeds' incremental form: each is a plane `A(x, y)`; at a span start it
+//! is evaluated once, then stepped by the triangle's constant `dA/dx` per pixel
+//! (`(I5 - I4)/(x5 - x4)`), never re-solved per pixel. With perspective the stepped values are
+//! `A/w` and `1/w`, divided per pixel.
+//!
+//! A band can be drawn in two passes ([`Pass`]): depth only, recording which triangle is
+//! nearest at each pixel, then shading only those pixels. The picture is the same as one pass
+//! (the nearest triangle, the first of equals in submission order) with each pixel shaded once.
 
 use glam::Vec3;
 
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::framebuffer::clamp_color;
-use crate::setup::{ScreenVertex, TriGeom, ceil_div};
-use phosphor_math::fixed::SUBPIXEL_ONE;
+use crate::setup::RasterTri;
+
+/// Small boxes at most this wide find their spans by stepping the edges pixel by pixel; others
+/// solve each edge for the span ends (one division per edge and row).
+const STEP_WIDTH: i64 = 12;
 
 /// Per-pixel shading stage of a mode (see `shade/`): what to compute at a span start, at a
 /// pixel that passed the depth test, and when stepping one pixel right.
@@ -33,6 +41,61 @@ pub trait Kernel: Sync {
     fn shade(&self, tri: &Self::Tri, span: &Self::Span, attrs: &Attrs, px: u32, py: u32) -> Vec3;
     /// Moves the span state one pixel to the right.
     fn step(span: &mut Self::Span);
+    /// Pixels shaded per call of [`Kernel::shade_lanes`]: 1 (every pixel through
+    /// [`Kernel::shade`]) or 4 (pixels of a triangle gathered and shaded four at a time).
+    const LANES: usize = 1;
+    /// The colours of the first `count` of four pixels with attributes `attrs` (only called
+    /// when `LANES` is 4, for kernels with no per-span or per-pixel-position state); lanes past
+    /// `count` hold copies of lane 0 and their colours are ignored. Must equal
+    /// [`Kernel::shade`] per lane.
+    fn shade_lanes(&self, tri: &Self::Tri, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
+        let _ = (tri, attrs, count);
+        [Vec3::ZERO; 4]
+    }
+}
+
+/// Pixels of one triangle waiting to be shaded four at a time.
+struct Pending {
+    idx: [usize; 4],
+    attrs: [Attrs; 4],
+    len: usize,
+}
+
+impl Pending {
+    fn new() -> Pending {
+        Pending {
+            idx: [0; 4],
+            attrs: [[0.0; MAX_ATTRS]; 4],
+            len: 0,
+        }
+    }
+
+    /// Shades the waiting pixels and writes their colours.
+    #[inline(always)]
+    fn flush<K: Kernel>(&mut self, kernel: &K, tri: &K::Tri, color: &mut [Vec3]) {
+        if self.len == 0 {
+            return;
+        }
+        for k in self.len..4 {
+            self.attrs[k] = self.attrs[0];
+        }
+        let c = kernel.shade_lanes(tri, &self.attrs, self.len);
+        for k in 0..self.len {
+            debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
+            color[self.idx[k]] = clamp_color(c[k]);
+        }
+        self.len = 0;
+    }
+}
+
+/// What a traversal does at a covered pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pass {
+    /// Depth test, then shade and write colour and depth.
+    Full,
+    /// Shade only where the depth pass recorded this triangle (`ids[pixel] == id`); depth was
+    /// written by that pass.
+    Visible(u64),
 }
 
 /// The rows of the framebuffer one band owns.
@@ -49,134 +112,165 @@ pub struct BandTarget<'a> {
     pub y1: i64,
     /// Debug hook: count coverage in the red channel (no depth test, no clamp) instead of shading.
     pub count: bool,
+    /// The pass being drawn.
+    pub pass: Pass,
+    /// The nearest triangle's id per pixel of the band, from the depth pass (empty for
+    /// [`Pass::Full`]).
+    pub ids: &'a [u64],
 }
 
-/// One edge walked down the rows: exact integer pixel position, float position and attributes.
-struct EdgeWalk {
-    num: i64,
-    num_step: i64,
-    den: i64,
-    x: f64,
-    dx: f64,
-    depth: f64,
-    ddepth: f64,
-    inv_w: f64,
-    dinv_w: f64,
-    attrs: [f64; MAX_ATTRS],
-    dattrs: [f64; MAX_ATTRS],
+/// The depth test and the depth written by every pass (one definition, so the depth pass and
+/// a single full pass agree bit for bit).
+#[inline(always)]
+fn depth_passes(depth: f64, stored: f32) -> bool {
+    (depth as f32) < stored
 }
 
-impl EdgeWalk {
-    /// The edge `a -> b` (a above b) positioned at row `j`; attributes for the first `n`.
-    fn new(a: &ScreenVertex, b: &ScreenVertex, j: i64, n: usize) -> EdgeWalk {
-        let half = SUBPIXEL_ONE / 2;
-        let dy = b.fy - a.fy;
-        let yc = j * SUBPIXEL_ONE + half;
-        // first covered pixel i: i + 0.5 >= x(yc)  <=>  i = ceil((x(yc) - 0.5)), with
-        // x(yc) = xa + (yc - ya)(xb - xa)/dy, all in fixed point.
-        let num = a.fx * dy + (yc - a.fy) * (b.fx - a.fx) - half * dy;
-        let den = SUBPIXEL_ONE * dy;
-        let inv_dy = 1.0 / (b.y - a.y);
-        let t = (j as f64 + 0.5) - a.y;
-        let slope = |va: f64, vb: f64| (vb - va) * inv_dy;
-        let dx = slope(a.x, b.x);
-        let ddepth = slope(a.depth, b.depth);
-        let dinv_w = slope(a.inv_w, b.inv_w);
-        let mut attrs = [0.0; MAX_ATTRS];
-        let mut dattrs = [0.0; MAX_ATTRS];
-        for k in 0..n {
-            dattrs[k] = slope(a.attrs[k] as f64, b.attrs[k] as f64);
-            attrs[k] = a.attrs[k] as f64 + t * dattrs[k];
-        }
-        EdgeWalk {
-            num,
-            num_step: SUBPIXEL_ONE * (b.fx - a.fx),
-            den,
-            x: a.x + t * dx,
-            dx,
-            depth: a.depth + t * ddepth,
-            ddepth,
-            inv_w: a.inv_w + t * dinv_w,
-            dinv_w,
-            attrs,
-            dattrs,
-        }
-    }
+#[inline(always)]
+fn depth_stored(depth: f64) -> f32 {
+    depth.max(0.0) as f32
+}
 
-    #[inline]
-    fn pixel(&self) -> i64 {
-        ceil_div(self.num, self.den)
+/// The iteration every pass shares: the rows of `t` inside band rows `[y0, y1)`, its columns
+/// inside `[0, width)`, the edges stepped from the first of those pixels. Calls
+/// `row(y, xs, xe)` for each row with a non-empty span `[xs, xe)`.
+#[inline(always)]
+fn for_each_span(t: &RasterTri, width: u32, y0: i64, y1: i64, mut row: impl FnMut(i64, i64, i64)) {
+    let (lo, hi) = (t.x0.max(0), t.x1.min(width as i64));
+    let (ylo, yhi) = (t.y0.max(y0), t.y1.min(y1));
+    if lo >= hi || ylo >= yhi {
+        return;
     }
-
-    /// Next scan line: every value by its per-row increment (seeds: `I' = I + dI`).
-    #[inline]
-    fn advance(&mut self, n: usize) {
-        self.num += self.num_step;
-        self.x += self.dx;
-        self.depth += self.ddepth;
-        self.inv_w += self.dinv_w;
-        for k in 0..n {
-            self.attrs[k] += self.dattrs[k];
+    let one = phosphor_math::fixed::SUBPIXEL_ONE;
+    let e = t.edges_at(lo, ylo);
+    if hi - lo <= STEP_WIDTH && t.x1 - t.x0 <= SMALL_SIDE && t.y1 - t.y0 <= SMALL_SIDE {
+        // A small triangle: every edge value inside its box fits in i32 (see SMALL_SIDE), and
+        // the span is found by stepping the edges across the narrow box.
+        let col = t.edge_a.map(|a| (a * one) as i32);
+        let down = t.edge_b.map(|b| (b * one) as i32);
+        let (mut e0, mut e1, mut e2) = (e[0] as i32, e[1] as i32, e[2] as i32);
+        for y in ylo..yhi {
+            let (mut f0, mut f1, mut f2) = (e0, e1, e2);
+            let mut x = lo;
+            while x < hi && (f0 | f1 | f2) < 0 {
+                x += 1;
+                f0 += col[0];
+                f1 += col[1];
+                f2 += col[2];
+            }
+            let xs = x;
+            while x < hi && (f0 | f1 | f2) >= 0 {
+                x += 1;
+                f0 += col[0];
+                f1 += col[1];
+                f2 += col[2];
+            }
+            if xs < x {
+                row(y, xs, x);
+            }
+            e0 += down[0];
+            e1 += down[1];
+            e2 += down[2];
+        }
+        return;
+    }
+    let col = t.edge_a.map(|a| a * one);
+    let down = t.edge_b.map(|b| b * one);
+    let mut e_row = e;
+    for y in ylo..yhi {
+        let (xs, xe) = row_span(e_row, col, lo, hi);
+        if xs < xe {
+            row(y, xs, xe);
+        }
+        for i in 0..3 {
+            e_row[i] += down[i];
         }
     }
 }
 
-/// Draws the part of triangle `geom` inside the band with kernel `K`; returns the number of
-/// pixels that passed the depth test (were shaded).
+/// Largest box side (pixels) of a small triangle. Inside its box an edge value is at most
+/// `|a| dx + |b| dy <= 2 ((SMALL_SIDE + 1) 256)^2 < 2^31`.
+const SMALL_SIDE: i64 = 64;
+
+/// The covered span `[xs, xe)` within columns `[lo, hi)` of a row whose edge values at `lo`
+/// are `e`, each edge stepping by `step` per pixel (`xs >= xe` when empty): one exact division
+/// per edge.
+#[inline(always)]
+fn row_span(e: [i64; 3], step: [i64; 3], lo: i64, hi: i64) -> (i64, i64) {
+    // Edge i holds at lo + k iff e_i + k step_i >= 0.
+    let (mut ks, mut ke) = (0, hi - lo);
+    for i in 0..3 {
+        let (ei, si) = (e[i], step[i]);
+        if si > 0 {
+            if ei < 0 {
+                ks = ks.max((-ei + si - 1) / si);
+            }
+        } else if si < 0 {
+            if ei < 0 {
+                return (0, 0);
+            }
+            ke = ke.min(ei / -si + 1);
+        } else if ei < 0 {
+            return (0, 0);
+        }
+    }
+    (lo + ks, lo + ke)
+}
+
+/// Draws the part of triangle `t` inside the band with kernel `K`; returns the number of
+/// pixels shaded.
 pub fn traverse<K: Kernel>(
-    geom: &TriGeom,
+    t: &RasterTri,
     kernel: &K,
     tri: &K::Tri,
     target: &mut BandTarget,
 ) -> u64 {
-    if geom.perspective {
-        traverse_impl::<K, true>(geom, kernel, tri, target)
-    } else {
-        traverse_impl::<K, false>(geom, kernel, tri, target)
+    match (t.perspective, target.pass) {
+        (true, Pass::Full) => traverse_impl::<K, true, false>(t, kernel, tri, target),
+        (false, Pass::Full) => traverse_impl::<K, false, false>(t, kernel, tri, target),
+        (true, Pass::Visible(_)) => traverse_impl::<K, true, true>(t, kernel, tri, target),
+        (false, Pass::Visible(_)) => traverse_impl::<K, false, true>(t, kernel, tri, target),
     }
 }
 
-fn traverse_impl<K: Kernel, const PERSPECTIVE: bool>(
-    geom: &TriGeom,
+/// The depth pass: depth test and write, and `ids[pixel] = id` where this triangle is now the
+/// nearest. Returns the pixels written.
+pub fn depth_only(t: &RasterTri, target: &mut BandTarget, ids: &mut [u64], id: u64) -> u64 {
+    let mut written = 0;
+    let width = target.width as usize;
+    let (y0, y1, stored) = (target.y0, target.y1, &mut *target.depth);
+    for_each_span(t, target.width, y0, y1, |y, xs, xe| {
+        let (ox, oy) = (xs as f64 + 0.5 - t.origin.0, y as f64 + 0.5 - t.origin.1);
+        let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
+        let row = ((y - y0) as usize) * width;
+        for idx in row + xs as usize..row + xe as usize {
+            if depth_passes(depth, stored[idx]) {
+                stored[idx] = depth_stored(depth);
+                ids[idx] = id;
+                written += 1;
+            }
+            depth += t.depth[1];
+        }
+    });
+    written
+}
+
+fn traverse_impl<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
+    t: &RasterTri,
     kernel: &K,
     tri: &K::Tri,
     target: &mut BandTarget,
 ) -> u64 {
-    let n = K::ATTRS.min(geom.n);
-    let [v0, v1, v2] = &geom.v;
+    let n = K::ATTRS.min(t.n);
     let mut shaded = 0;
-    // Two halves: rows above v1 use the short edge v0->v1, rows below it v1->v2.
-    for (short_a, short_b, lo, hi) in [
-        (v0, v1, geom.row_start, geom.row_mid),
-        (v1, v2, geom.row_mid, geom.row_end),
-    ] {
-        let lo = lo.max(target.y0);
-        let hi = hi.min(target.y1);
-        if lo >= hi {
-            continue;
-        }
-        let mut long = EdgeWalk::new(v0, v2, lo, n);
-        let mut short = EdgeWalk::new(short_a, short_b, lo, n);
-        for j in lo..hi {
-            let (left, right) = if geom.long_left {
-                (&long, &short)
-            } else {
-                (&short, &long)
-            };
-            let x_start = left.pixel().max(0);
-            let x_end = right.pixel().min(target.width as i64);
-            if x_start < x_end {
-                shaded +=
-                    span::<K, PERSPECTIVE>(geom, kernel, tri, target, left, j, x_start, x_end, n);
-            }
-            if geom.long_left {
-                long.advance(n);
-                short.advance(0);
-            } else {
-                long.advance(0);
-                short.advance(n);
-            }
-        }
+    let (width, y0, y1) = (target.width, target.y0, target.y1);
+    let mut pending = Pending::new();
+    for_each_span(t, width, y0, y1, |y, xs, xe| {
+        shaded +=
+            span::<K, PERSPECTIVE, VISIBLE>(t, kernel, tri, target, &mut pending, y, xs, xe, n);
+    });
+    if K::LANES == 4 {
+        pending.flush(kernel, tri, target.color);
     }
     shaded
 }
@@ -186,55 +280,80 @@ fn traverse_impl<K: Kernel, const PERSPECTIVE: bool>(
     reason = "the hot loop's state, kept in registers"
 )]
 #[inline(always)]
-fn span<K: Kernel, const PERSPECTIVE: bool>(
-    geom: &TriGeom,
+fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
+    t: &RasterTri,
     kernel: &K,
     tri: &K::Tri,
     target: &mut BandTarget,
-    left: &EdgeWalk,
-    j: i64,
+    pending: &mut Pending,
+    y: i64,
     x_start: i64,
     x_end: i64,
     n: usize,
 ) -> u64 {
-    // Span start: the edge values moved from the edge to the first pixel centre.
+    // Span start: every plane evaluated once at the first pixel centre.
     let xc = x_start as f64 + 0.5;
-    let off = xc - left.x;
-    let mut depth = left.depth + off * geom.ddepth_dx;
-    let mut inv_w = left.inv_w + off * geom.dinv_w_dx;
+    let yc = y as f64 + 0.5;
+    let (ox, oy) = (xc - t.origin.0, yc - t.origin.1);
+    let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
+    let mut inv_w = t.inv_w[0] + ox * t.inv_w[1] + oy * t.inv_w[2];
     let mut attrs: Attrs = [0.0; MAX_ATTRS];
     for k in 0..n {
-        attrs[k] = (left.attrs[k] + off * geom.dattr_dx[k] as f64) as f32;
+        attrs[k] = (t.attr0[k] as f64 + ox * t.attr_dx[k] as f64 + oy * t.attr_dy[k] as f64) as f32;
     }
-    let mut state = kernel.span(tri, xc as f32, j as f32 + 0.5);
-    let row = ((j - target.y0) as usize) * target.width as usize;
+    let mut state = kernel.span(tri, xc as f32, yc as f32);
+    let row = ((y - target.y0) as usize) * target.width as usize;
+    let id = match target.pass {
+        Pass::Visible(id) => id,
+        Pass::Full => 0,
+    };
     let mut shaded = 0;
     let mut out: Attrs = [0.0; MAX_ATTRS];
     for x in x_start..x_end {
         let idx = row + x as usize;
-        if target.count {
+        let draw = if VISIBLE {
+            target.ids[idx] == id
+        } else if target.count {
             target.color[idx].x += 1.0;
-        } else if (depth as f32) < target.depth[idx] {
+            false
+        } else {
+            depth_passes(depth, target.depth[idx])
+        };
+        if draw {
             let w = if PERSPECTIVE {
                 (1.0 / inv_w) as f32
             } else {
                 1.0
             };
-            for k in 0..n {
-                out[k] = attrs[k] * w;
+            if K::LANES == 4 {
+                let slot = &mut pending.attrs[pending.len];
+                for k in 0..n {
+                    slot[k] = attrs[k] * w;
+                }
+                pending.idx[pending.len] = idx;
+                pending.len += 1;
+                if pending.len == 4 {
+                    pending.flush(kernel, tri, target.color);
+                }
+            } else {
+                for k in 0..n {
+                    out[k] = attrs[k] * w;
+                }
+                let c = kernel.shade(tri, &state, &out, x as u32, y as u32);
+                debug_assert!(c.is_finite(), "non-finite colour {c} at ({x}, {y})");
+                target.color[idx] = clamp_color(c);
             }
-            let c = kernel.shade(tri, &state, &out, x as u32, j as u32);
-            debug_assert!(c.is_finite(), "non-finite colour {c} at ({x}, {j})");
-            target.color[idx] = clamp_color(c);
-            target.depth[idx] = depth.max(0.0) as f32;
+            if !VISIBLE {
+                target.depth[idx] = depth_stored(depth);
+            }
             shaded += 1;
         }
-        depth += geom.ddepth_dx;
+        depth += t.depth[1];
         if PERSPECTIVE {
-            inv_w += geom.dinv_w_dx;
+            inv_w += t.inv_w[1];
         }
         for k in 0..n {
-            attrs[k] += geom.dattr_dx[k];
+            attrs[k] += t.attr_dx[k];
         }
         K::step(&mut state);
     }

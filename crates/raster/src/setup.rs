@@ -176,6 +176,172 @@ pub fn setup(
     Some(geom)
 }
 
+/// `ceil((v - 0.5 px) / 1 px)` for a fixed-point `v`: the first pixel whose centre is at or
+/// after `v` (exact; an arithmetic shift floors for negative values too).
+#[inline]
+#[must_use]
+pub fn first_centre_at_or_after(v: i64) -> i64 {
+    (v - HALF + SUBPIXEL_ONE - 1) >> phosphor_math::fixed::SUBPIXEL_BITS
+}
+
+/// The pixel rows `[lo, hi)` whose centres a triangle with these fixed-point `y` can cover
+/// (the same rows as [`setup`]'s `row_start .. row_end`).
+#[inline]
+#[must_use]
+pub fn row_range(fy: [i64; 3]) -> (i64, i64) {
+    let lo = fy[0].min(fy[1]).min(fy[2]);
+    let hi = fy[0].max(fy[1]).max(fy[2]);
+    (first_centre_at_or_after(lo), first_centre_at_or_after(hi))
+}
+
+/// A triangle ready for the bounding-box traversal: three integer edge functions, the pixel
+/// bounds, and the plane equations of depth, `1/w` and the attributes.
+///
+/// Edge `i` is `E_i(X, Y) = a_i X + b_i Y + c_i` at fixed-point pixel centres, `c_i` holding
+/// `-(a_i px_i + b_i py_i)` for a point `p_i` of the edge plus a bias; a pixel is covered when all three are `>= 0`. The bias is 0 on a left edge
+/// (interior to its right) or a top edge (horizontal, interior below) and -1 elsewhere, so a
+/// centre exactly on an edge belongs to the triangle to its right or below: the top-left rule.
+/// Rows then run `ceil(y_top - 0.5) .. ceil(y_bottom - 0.5)` and spans
+/// `[ceil(x_left - 0.5), ceil(x_right - 0.5))`, evaluated exactly in integers, so two
+/// triangles sharing an edge split its pixels without gap or overlap.
+#[derive(Debug, Clone, Copy)]
+pub struct RasterTri {
+    /// `dE/dX` per edge.
+    pub edge_a: [i64; 3],
+    /// `dE/dY` per edge.
+    pub edge_b: [i64; 3],
+    /// The constant term of each edge function, with the fill-rule bias.
+    pub edge_c: [i64; 3],
+    /// Pixel columns `[x0, x1)` the triangle can cover (not clipped to the image).
+    pub x0: i64,
+    /// One past the last column.
+    pub x1: i64,
+    /// Pixel rows `[y0, y1)` the triangle can cover (not clipped to the image).
+    pub y0: i64,
+    /// One past the last row.
+    pub y1: i64,
+    /// Plane origin in pixels (the first vertex).
+    pub origin: (f64, f64),
+    /// Depth at the origin, `d/dx`, `d/dy`.
+    pub depth: [f64; 3],
+    /// `1/w` at the origin, `d/dx`, `d/dy` (perspective only; else 1, 0, 0).
+    pub inv_w: [f64; 3],
+    /// Attributes at the origin (divided by `w` when perspective-correct).
+    pub attr0: Attrs,
+    /// `d attr / dx`.
+    pub attr_dx: Attrs,
+    /// `d attr / dy`.
+    pub attr_dy: Attrs,
+    /// Attributes in use.
+    pub n: usize,
+    /// Whether attributes are divided by `w`.
+    pub perspective: bool,
+}
+
+impl RasterTri {
+    /// An empty triangle (covers nothing) to [`RasterTri::set`] later.
+    #[must_use]
+    pub fn empty() -> RasterTri {
+        RasterTri {
+            edge_a: [0; 3],
+            edge_b: [0; 3],
+            edge_c: [-1; 3],
+            x0: 0,
+            x1: 0,
+            y0: 0,
+            y1: 0,
+            origin: (0.0, 0.0),
+            depth: [0.0; 3],
+            inv_w: [1.0, 0.0, 0.0],
+            attr0: [0.0; MAX_ATTRS],
+            attr_dx: [0.0; MAX_ATTRS],
+            attr_dy: [0.0; MAX_ATTRS],
+            n: 0,
+            perspective: false,
+        }
+    }
+
+    /// The triangle through `v` with the first `n` attributes; `None` for zero area. The
+    /// winding does not matter (culling is the caller's).
+    #[must_use]
+    pub fn new(v: [&ScreenVertex; 3], n: usize, perspective: bool) -> Option<RasterTri> {
+        let mut t = RasterTri::empty();
+        t.set(v, n, perspective).then_some(t)
+    }
+
+    /// [`RasterTri::new`] in place (set-up runs per band and triangle; this avoids moving the
+    /// record around). Returns false, leaving `self` unspecified, for zero area.
+    #[inline]
+    pub fn set(&mut self, v: [&ScreenVertex; 3], n: usize, perspective: bool) -> bool {
+        let area = screen_area2(v[0], v[1], v[2]);
+        if area == 0 {
+            return false;
+        }
+        // Interior on the positive side of every edge.
+        let v = if area > 0 { v } else { [v[0], v[2], v[1]] };
+        let area = area.abs();
+        for i in 0..3 {
+            let (p, q) = (v[i], v[(i + 1) % 3]);
+            // E(S) = (q - p) x (S - p) = (qx - px)(Sy - py) - (qy - py)(Sx - px).
+            let a = -(q.fy - p.fy);
+            let b = q.fx - p.fx;
+            let top_left = a > 0 || (a == 0 && b > 0);
+            self.edge_a[i] = a;
+            self.edge_b[i] = b;
+            self.edge_c[i] = -(a * p.fx + b * p.fy) - i64::from(!top_left);
+        }
+        (self.x0, self.x1) = row_range([v[0].fx, v[1].fx, v[2].fx]);
+        (self.y0, self.y1) = row_range([v[0].fy, v[1].fy, v[2].fy]);
+        // Plane gradients: A = A0 + gx (x - x0) + gy (y - y0) through the three vertices.
+        let (dx1, dy1) = (v[1].x - v[0].x, v[1].y - v[0].y);
+        let (dx2, dy2) = (v[2].x - v[0].x, v[2].y - v[0].y);
+        let inv_area = (SUBPIXEL_ONE * SUBPIXEL_ONE) as f64 / area as f64;
+        let plane = |a0: f64, a1: f64, a2: f64| {
+            let (d1, d2) = (a1 - a0, a2 - a0);
+            [
+                a0,
+                (d1 * dy2 - d2 * dy1) * inv_area,
+                (d2 * dx1 - d1 * dx2) * inv_area,
+            ]
+        };
+        for k in 0..n {
+            let [a, gx, gy] = plane(
+                v[0].attrs[k] as f64,
+                v[1].attrs[k] as f64,
+                v[2].attrs[k] as f64,
+            );
+            self.attr0[k] = a as f32;
+            self.attr_dx[k] = gx as f32;
+            self.attr_dy[k] = gy as f32;
+        }
+        self.origin = (v[0].x, v[0].y);
+        self.depth = plane(v[0].depth, v[1].depth, v[2].depth);
+        // 1/w only matters to attributes.
+        self.inv_w = if perspective && n > 0 {
+            plane(v[0].inv_w, v[1].inv_w, v[2].inv_w)
+        } else {
+            [1.0, 0.0, 0.0]
+        };
+        self.n = n;
+        self.perspective = perspective && n > 0;
+        true
+    }
+
+    /// Edge values at the centre of pixel `(x, y)`.
+    #[inline]
+    #[must_use]
+    pub fn edges_at(&self, x: i64, y: i64) -> [i64; 3] {
+        let cx = x * SUBPIXEL_ONE + HALF;
+        let cy = y * SUBPIXEL_ONE + HALF;
+        let (a, b, c) = (&self.edge_a, &self.edge_b, &self.edge_c);
+        [
+            a[0] * cx + b[0] * cy + c[0],
+            a[1] * cx + b[1] * cy + c[1],
+            a[2] * cx + b[2] * cy + c[2],
+        ]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

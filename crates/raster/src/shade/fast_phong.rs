@@ -21,7 +21,7 @@ use super::{Lit, Mode, VertexIn, surface_attrs};
 use crate::clip::Attrs;
 use crate::framebuffer::clamp_color;
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::TriGeom;
+use crate::setup::{RasterTri, ScreenVertex, TriGeom, setup};
 
 /// Largest error (per channel, on the `[0, 1]` intensity) the fit may show at the check
 /// points before the triangle falls back to `phong`: one 8-bit code.
@@ -275,10 +275,21 @@ impl<const FX: u32> FastPhong<'_, FX> {
 impl<const FX: u32> Mode for FastPhong<'_, FX> {
     const ATTRS: usize = 6;
     type Tri = FastTri;
+    const EARLY_Z: bool = true;
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
-    fn triangle(&self, _: &[VertexIn; 3], geom: &TriGeom) -> FastTri {
+    fn triangle(
+        &self,
+        _: &[VertexIn; 3],
+        screen: &[ScreenVertex; 3],
+        perspective: bool,
+    ) -> FastTri {
+        // The sorted set-up (any vertex order would do for the fit).
+        let Some(geom) = setup(*screen, Self::ATTRS, perspective, false) else {
+            return FastTri::Small;
+        };
+        let geom = &geom;
         let [a, b, c] = geom.v.map(|v| DVec2::new(v.x, v.y));
         if (b - a).perp_dot(c - a).abs() * 0.5 < MIN_FIT_AREA_PX {
             return FastTri::Small;
@@ -288,10 +299,10 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
             None => FastTri::Phong,
         }
     }
-    fn draw(&self, geom: &TriGeom, tri: &FastTri, target: &mut BandTarget) -> u64 {
+    fn draw(&self, t: &RasterTri, tri: &FastTri, target: &mut BandTarget) -> u64 {
         match tri {
-            FastTri::Poly(p) => traverse(geom, &PolyKernel, p, target),
-            FastTri::Phong | FastTri::Small => traverse(geom, &self.phong(), &(), target),
+            FastTri::Poly(p) => traverse(t, &PolyKernel, p, target),
+            FastTri::Phong | FastTri::Small => traverse(t, &self.phong(), &(), target),
         }
     }
     fn is_fallback(tri: &FastTri) -> bool {

@@ -8,7 +8,7 @@ use phosphor_math::safe_normalize;
 use super::{Lit, Mode, VertexIn};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::TriGeom;
+use crate::setup::{RasterTri, ScreenVertex};
 
 /// The flat mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
@@ -37,15 +37,15 @@ impl<const FX: u32> Mode for Flat<'_, FX> {
     fn vertex(&self, _: &VertexIn) -> Attrs {
         [0.0; MAX_ATTRS]
     }
-    fn triangle(&self, src: &[VertexIn; 3], _: &TriGeom) -> Vec3 {
+    fn triangle(&self, src: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) -> Vec3 {
         let [a, b, c] = src.map(|v| v.world);
         // Counter-clockwise is front, so the cross product points outwards.
         let n = safe_normalize((b - a).cross(c - a), Vec3::ZERO);
         let centroid = (a + b + c) / 3.0;
         shade::<FX>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
     }
-    fn draw(&self, geom: &TriGeom, tri: &Vec3, target: &mut BandTarget) -> u64 {
-        traverse(geom, self, tri, target)
+    fn draw(&self, t: &RasterTri, tri: &Vec3, target: &mut BandTarget) -> u64 {
+        traverse(t, self, tri, target)
     }
 }
 
@@ -62,11 +62,11 @@ impl Mode for FillOnly {
     fn vertex(&self, _: &VertexIn) -> Attrs {
         [0.0; MAX_ATTRS]
     }
-    fn triangle(&self, _: &[VertexIn; 3], _: &TriGeom) -> Vec3 {
+    fn triangle(&self, _: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) -> Vec3 {
         self.color
     }
-    fn draw(&self, geom: &TriGeom, tri: &Vec3, target: &mut BandTarget) -> u64 {
-        traverse(geom, &ConstKernel, tri, target)
+    fn draw(&self, t: &RasterTri, tri: &Vec3, target: &mut BandTarget) -> u64 {
+        traverse(t, &ConstKernel, tri, target)
     }
 }
 

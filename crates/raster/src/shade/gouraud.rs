@@ -7,7 +7,7 @@ use phosphor_lighting::shade;
 use super::{Lit, Mode, VertexIn, get3, put3};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::TriGeom;
+use crate::setup::{RasterTri, ScreenVertex};
 
 /// The Gouraud mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
@@ -40,8 +40,8 @@ impl<const FX: u32> Mode for Gouraud<'_, FX> {
         put3(&mut a, 0, i.min(Vec3::ONE));
         a
     }
-    fn triangle(&self, _: &[VertexIn; 3], _: &TriGeom) {}
-    fn draw(&self, geom: &TriGeom, tri: &(), target: &mut BandTarget) -> u64 {
-        traverse(geom, self, tri, target)
+    fn triangle(&self, _: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) {}
+    fn draw(&self, t: &RasterTri, tri: &(), target: &mut BandTarget) -> u64 {
+        traverse(t, self, tri, target)
     }
 }

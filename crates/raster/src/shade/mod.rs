@@ -17,7 +17,7 @@ use phosphor_lighting::{Effects, Material};
 
 use crate::clip::Attrs;
 use crate::scanline::BandTarget;
-use crate::setup::TriGeom;
+use crate::setup::{RasterTri, ScreenVertex};
 
 pub mod fast_phong;
 pub mod flat;
@@ -45,12 +45,21 @@ pub trait Mode: Sync {
     const ATTRS: usize;
     /// Per-triangle data.
     type Tri: Send + Sync;
+    /// Whether a band is drawn in two passes, depth first, so that each pixel is shaded once
+    /// (for modes whose per-pixel shading costs more than a second traversal).
+    const EARLY_Z: bool = false;
     /// The attributes of one vertex.
     fn vertex(&self, v: &VertexIn) -> Attrs;
-    /// Set-up for one screen triangle `geom` cut from mesh triangle `src`.
-    fn triangle(&self, src: &[VertexIn; 3], geom: &TriGeom) -> Self::Tri;
+    /// Set-up for one screen triangle (`screen`, with attributes divided by `w` when
+    /// `perspective`) cut from mesh triangle `src`.
+    fn triangle(
+        &self,
+        src: &[VertexIn; 3],
+        screen: &[ScreenVertex; 3],
+        perspective: bool,
+    ) -> Self::Tri;
     /// Draws the triangle's pixels inside `target`; returns the pixels shaded.
-    fn draw(&self, geom: &TriGeom, tri: &Self::Tri, target: &mut BandTarget) -> u64;
+    fn draw(&self, t: &RasterTri, tri: &Self::Tri, target: &mut BandTarget) -> u64;
     /// True when the set-up fell back to a costlier kernel (fast Phong to Phong).
     fn is_fallback(_tri: &Self::Tri) -> bool {
         false

@@ -3,13 +3,13 @@
 //! perturbed by the height field in the tangent frame first.
 
 use glam::{Vec2, Vec3, Vec4};
-use phosphor_lighting::shade;
+use phosphor_lighting::{Vec3x4, shade, shade_x4};
 
 use super::{Lit, Mode, VertexIn, get3, surface_attrs};
 use crate::bump::BumpMap;
 use crate::clip::Attrs;
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::TriGeom;
+use crate::setup::{RasterTri, ScreenVertex};
 
 /// The Phong mode for effect set `FX`, with or without bump mapping.
 #[derive(Debug, Clone, Copy)]
@@ -42,16 +42,41 @@ impl<const FX: u32, const BUMP: bool> Kernel for Phong<'_, FX, BUMP> {
     }
     #[inline]
     fn step(_: &mut ()) {}
+    const LANES: usize = 4;
+    #[inline]
+    fn shade_lanes(&self, _: &(), attrs: &[Attrs; 4], _: usize) -> [Vec3; 4] {
+        let p = attrs.map(|a| get3(&a, 0));
+        let mut n = attrs.map(|a| get3(&a, 3));
+        if BUMP {
+            if let Some(map) = self.bump {
+                for (n, a) in n.iter_mut().zip(attrs) {
+                    let uv = Vec2::new(a[6], a[7]);
+                    let t = Vec4::new(a[8], a[9], a[10], a[11]);
+                    *n = map.perturb(*n, t, uv);
+                }
+            }
+        }
+        // Bit for bit `shade` in every lane.
+        shade_x4::<FX>(
+            self.lit.set,
+            &self.lit.mat,
+            Vec3x4::from_array(p),
+            Vec3x4::from_array(n),
+            self.lit.eye,
+        )
+        .to_array()
+    }
 }
 
 impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
     const ATTRS: usize = if BUMP { 12 } else { 6 };
     type Tri = ();
+    const EARLY_Z: bool = true;
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
-    fn triangle(&self, _: &[VertexIn; 3], _: &TriGeom) {}
-    fn draw(&self, geom: &TriGeom, tri: &(), target: &mut BandTarget) -> u64 {
-        traverse(geom, self, tri, target)
+    fn triangle(&self, _: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) {}
+    fn draw(&self, t: &RasterTri, tri: &(), target: &mut BandTarget) -> u64 {
+        traverse(t, self, tri, target)
     }
 }

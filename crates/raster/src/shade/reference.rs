@@ -10,7 +10,7 @@ use super::{Mode, VertexIn, surface_attrs};
 use crate::bump::BumpMap;
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::TriGeom;
+use crate::setup::{RasterTri, ScreenVertex};
 
 /// The reference mode.
 #[derive(Debug, Clone, Copy)]
@@ -75,15 +75,16 @@ impl Kernel for Reference<'_> {
 impl Mode for Reference<'_> {
     const ATTRS: usize = 12;
     type Tri = RefTri;
+    const EARLY_Z: bool = true;
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
-    fn triangle(&self, _: &[VertexIn; 3], geom: &TriGeom) -> RefTri {
-        let screen = geom.v.map(|s| DVec2::new(s.x, s.y));
-        let rhw = geom.v.map(|s| s.rhw);
-        let attrs = geom.v.map(|s| {
+    fn triangle(&self, _: &[VertexIn; 3], v: &[ScreenVertex; 3], perspective: bool) -> RefTri {
+        let screen = v.map(|s| DVec2::new(s.x, s.y));
+        let rhw = v.map(|s| s.rhw);
+        let attrs = v.map(|s| {
             // Undo the traversal's division by w (when perspective-correct).
-            let scale = if geom.perspective { 1.0 / s.rhw } else { 1.0 };
+            let scale = if perspective { 1.0 / s.rhw } else { 1.0 };
             s.attrs.map(|a| a as f64 * scale)
         });
         let [a, b, c] = screen;
@@ -95,7 +96,7 @@ impl Mode for Reference<'_> {
             inv_area: if area != 0.0 { 1.0 / area } else { 0.0 },
         }
     }
-    fn draw(&self, geom: &TriGeom, tri: &RefTri, target: &mut BandTarget) -> u64 {
-        traverse(geom, self, tri, target)
+    fn draw(&self, t: &RasterTri, tri: &RefTri, target: &mut BandTarget) -> u64 {
+        traverse(t, self, tri, target)
     }
 }

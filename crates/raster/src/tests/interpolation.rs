@@ -5,8 +5,8 @@
 use glam::Vec3;
 
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::{ScreenVertex, setup};
+use crate::scanline::{BandTarget, Kernel, Pass, traverse};
+use crate::setup::{RasterTri, ScreenVertex};
 
 struct Record;
 
@@ -68,7 +68,7 @@ fn scanline_increments_reproduce_the_seeds_closed_form_i4_i5_ip() {
     ] {
         let verts = tri.map(|(x, y, i)| vertex(x, y, i as f32));
         let snapped = verts.map(|v| (v.x, v.y, v.attrs[0] as f64));
-        let geom = setup(verts, 1, false, false).unwrap();
+        let tri = RasterTri::new([&verts[0], &verts[1], &verts[2]], 1, false).unwrap();
         let mut color = vec![Vec3::splat(-1.0); (w * h) as usize];
         let mut depth = vec![1.0; (w * h) as usize];
         let mut target = BandTarget {
@@ -78,8 +78,10 @@ fn scanline_increments_reproduce_the_seeds_closed_form_i4_i5_ip() {
             y0: 0,
             y1: h as i64,
             count: false,
+            pass: Pass::Full,
+            ids: &[],
         };
-        let n = traverse(&geom, &Record, &(), &mut target);
+        let n = traverse(&tri, &Record, &(), &mut target);
         assert!(n > 100);
         let mut checked = 0;
         for y in 0..h {
