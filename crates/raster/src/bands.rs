@@ -12,7 +12,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rayon::prelude::*;
 
 use crate::framebuffer::Framebuffer;
-use crate::scanline::{BandTarget, Pass, depth_only};
+use crate::scanline::{BandTarget, Pass, Pending, depth_only};
 use crate::setup::{RasterTri, ScreenVertex};
 use crate::shade::Mode;
 
@@ -227,6 +227,7 @@ pub fn draw_bands<M: Mode>(
             count,
             pass: Pass::Full,
             ids: &[],
+            pending: Pending::new(),
         };
         if !M::EARLY_Z || count || in_band < 2 {
             let mut shaded = 0;
@@ -256,6 +257,7 @@ pub fn draw_bands<M: Mode>(
                 count,
                 pass: Pass::Full,
                 ids: &[],
+                pending: Pending::new(),
             };
             let epoch = EPOCH.fetch_add(1, Ordering::Relaxed) << 32;
             let mut seq = epoch;
@@ -280,6 +282,7 @@ pub fn draw_bands<M: Mode>(
                     seq += 1;
                 }
             }
+            mode.finish(&mut target);
             shaded
         })
     };

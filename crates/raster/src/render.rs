@@ -183,6 +183,47 @@ struct ChunkSetup<T> {
     fallbacks: u64,
 }
 
+/// Accepted triangles waiting for their mode data, computed four at a time
+/// ([`Mode::triangle4`]).
+struct Group<'m, M> {
+    mode: &'m M,
+    perspective: bool,
+    src: Vec<([VertexIn; 3], [ScreenVertex; 3])>,
+}
+
+impl<M: Mode> Group<'_, M> {
+    /// Queues a triangle; returns the index its data will have in `tris`.
+    fn add(
+        &mut self,
+        src: [VertexIn; 3],
+        screen: [ScreenVertex; 3],
+        tris: &mut Vec<M::Tri>,
+    ) -> u32 {
+        let at = (tris.len() + self.src.len()) as u32;
+        self.src.push((src, screen));
+        if self.src.len() == 4 {
+            self.flush(tris);
+        }
+        at
+    }
+
+    /// Computes the queued triangles' data into `tris`.
+    fn flush(&mut self, tris: &mut Vec<M::Tri>) {
+        let len = self.src.len();
+        if len == 0 {
+            return;
+        }
+        let lane = |k: usize| &self.src[k.min(len - 1)];
+        let out = self.mode.triangle4(
+            std::array::from_fn(|k| &lane(k).0),
+            std::array::from_fn(|k| &lane(k).1),
+            self.perspective,
+        );
+        tris.extend(out.into_iter().take(len));
+        self.src.clear();
+    }
+}
+
 /// Accepts a screen triangle: not degenerate, not culled, covering at least one row of pixel
 /// centres. Returns its rows (not clipped to the image).
 #[inline]
@@ -213,10 +254,20 @@ fn run<M: Mode>(
     // Per vertex, once (a mesh vertex is shared by about six triangles): the mode's
     // attributes and, for a vertex inside every clip plane, its screen vertex. A triangle whose
     // three vertices are inside is not changed by clipping, so it takes these as they are.
-    let clip = map_indices(opts.threads, verts.len(), 4096, |i| ClipVertex {
-        pos: verts[i].0,
-        attrs: mode.vertex(&verts[i].1),
-    });
+    let clip: Vec<ClipVertex> = map_chunks(opts.threads, &verts, 4096, |chunk| {
+        let mut out = Vec::with_capacity(chunk.len());
+        for group in chunk.chunks(4) {
+            let attrs = mode.vertex4(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
+            out.extend(
+                group
+                    .iter()
+                    .zip(attrs)
+                    .map(|(v, attrs)| ClipVertex { pos: v.0, attrs }),
+            );
+        }
+        out
+    })
+    .concat();
     let screen = map_indices(opts.threads, verts.len(), 4096, |i| {
         let cv = &clip[i];
         (cv.pos.is_finite() && inside_clip_volume(cv.pos, guard))
@@ -233,7 +284,12 @@ fn run<M: Mode>(
         let mut staged: Vec<(TriRec, u32, u32)> = Vec::with_capacity(indices.len());
         let mut tris = Vec::with_capacity(indices.len());
         let mut extra = Vec::new();
-        let (mut drawn, mut fallbacks) = (0, 0);
+        let mut group = Group {
+            mode,
+            perspective: persp,
+            src: Vec::with_capacity(4),
+        };
+        let mut drawn = 0;
         for idx in indices {
             if idx.iter().any(|&i| i as usize >= verts.len()) {
                 continue;
@@ -247,13 +303,10 @@ fn run<M: Mode>(
                 };
                 drawn += 1;
                 if let Some((b0, b1)) = on_screen([a, b, c], rows) {
-                    let tri = mode.triangle(&src, &[*a, *b, *c], persp);
-                    fallbacks += u64::from(M::is_fallback(&tri));
                     let rec = TriRec {
                         v: idx.map(|i| i),
-                        tri: tris.len() as u32,
+                        tri: group.add(src, [*a, *b, *c], &mut tris),
                     };
-                    tris.push(tri);
                     staged.push((rec, b0, b1));
                 }
                 continue;
@@ -279,20 +332,19 @@ fn run<M: Mode>(
                 };
                 any = true;
                 if let Some((b0, b1)) = on_screen([a, b, c], rows) {
-                    let tri = mode.triangle(&src, &[*a, *b, *c], persp);
-                    fallbacks += u64::from(M::is_fallback(&tri));
                     let base = extra.len() as u32;
                     extra.extend([*a, *b, *c]);
                     let rec = TriRec {
                         v: [base, base + 1, base + 2].map(|i| i | EXTRA_VERTEX),
-                        tri: tris.len() as u32,
+                        tri: group.add(src, [*a, *b, *c], &mut tris),
                     };
-                    tris.push(tri);
                     staged.push((rec, b0, b1));
                 }
             }
             drawn += u64::from(any);
         }
+        group.flush(&mut tris);
+        let fallbacks = tris.iter().map(|t| u64::from(M::is_fallback(t))).sum();
         ChunkSetup {
             binned: Binned::new(&staged, bands, tris, extra),
             drawn,

@@ -22,9 +22,9 @@ use crate::clip::{Attrs, MAX_ATTRS};
 use crate::framebuffer::clamp_color;
 use crate::setup::RasterTri;
 
-/// Small boxes at most this wide find their spans by stepping the edges pixel by pixel; others
-/// solve each edge for the span ends (one division per edge and row).
-const STEP_WIDTH: i64 = 12;
+/// Small boxes at most this wide find their spans by testing the edges at every pixel, four at
+/// a time; others solve each edge for the span ends (one division per edge and row).
+const STEP_WIDTH: i64 = 16;
 
 /// Per-pixel shading stage of a mode (see `shade/`): what to compute at a span start, at a
 /// pixel that passed the depth test, and when stepping one pixel right.
@@ -52,17 +52,30 @@ pub trait Kernel: Sync {
         let _ = (tri, attrs, count);
         [Vec3::ZERO; 4]
     }
+    /// True when [`Kernel::shade_lanes`] does not read the triangle data, so that in the
+    /// visible pass (each pixel written by one triangle) pixels of successive triangles can
+    /// share a group of four; the mode then flushes the last group (`Mode::finish`).
+    const ACROSS_TRIANGLES: bool = false;
 }
 
-/// Pixels of one triangle waiting to be shaded four at a time.
-struct Pending {
+/// Pixels waiting to be shaded four at a time ([`Kernel::LANES`]).
+#[derive(Debug, Clone)]
+pub struct Pending {
     idx: [usize; 4],
     attrs: [Attrs; 4],
     len: usize,
 }
 
+impl Default for Pending {
+    fn default() -> Pending {
+        Pending::new()
+    }
+}
+
 impl Pending {
-    fn new() -> Pending {
+    /// No pixel waiting.
+    #[must_use]
+    pub fn new() -> Pending {
         Pending {
             idx: [0; 4],
             attrs: [[0.0; MAX_ATTRS]; 4],
@@ -70,9 +83,9 @@ impl Pending {
         }
     }
 
-    /// Shades the waiting pixels and writes their colours.
+    /// Shades the waiting pixels with `kernel` and writes their colours.
     #[inline(always)]
-    fn flush<K: Kernel>(&mut self, kernel: &K, tri: &K::Tri, color: &mut [Vec3]) {
+    pub fn flush<K: Kernel>(&mut self, kernel: &K, tri: &K::Tri, color: &mut [Vec3]) {
         if self.len == 0 {
             return;
         }
@@ -117,6 +130,8 @@ pub struct BandTarget<'a> {
     /// The nearest triangle's id per pixel of the band, from the depth pass (empty for
     /// [`Pass::Full`]).
     pub ids: &'a [u64],
+    /// Pixels waiting for a four-pixel kernel.
+    pub pending: Pending,
 }
 
 /// The depth test and the depth written by every pass (one definition, so the depth pass and
@@ -144,33 +159,36 @@ fn for_each_span(t: &RasterTri, width: u32, y0: i64, y1: i64, mut row: impl FnMu
     let one = phosphor_math::fixed::SUBPIXEL_ONE;
     let e = t.edges_at(lo, ylo);
     if hi - lo <= STEP_WIDTH && t.x1 - t.x0 <= SMALL_SIDE && t.y1 - t.y0 <= SMALL_SIDE {
-        // A small triangle: every edge value inside its box fits in i32 (see SMALL_SIDE), and
-        // the span is found by stepping the edges across the narrow box.
-        let col = t.edge_a.map(|a| (a * one) as i32);
-        let down = t.edge_b.map(|b| (b * one) as i32);
-        let (mut e0, mut e1, mut e2) = (e[0] as i32, e[1] as i32, e[2] as i32);
+        // A small triangle: every edge value inside its box (and up to 16 columns right of
+        // it) fits in i32 (see SMALL_SIDE). Each row tests four pixels per step with no branch
+        // per pixel: a bit per covered pixel, and the span is the run of set bits.
+        let lanes = wide::i32x4::new([0, 1, 2, 3]);
+        let col: [i32; 3] = t.edge_a.map(|a| (a * one) as i32);
+        let down: [i32; 3] = t.edge_b.map(|b| (b * one) as i32);
+        let ramp = col.map(|c| lanes * wide::i32x4::splat(c));
+        let four = col.map(|c| wide::i32x4::splat(4 * c));
+        let steps = (hi - lo + 3) / 4;
+        let valid = (1u32 << (hi - lo)) - 1;
+        let mut e_row = e.map(|v| v as i32);
         for y in ylo..yhi {
-            let (mut f0, mut f1, mut f2) = (e0, e1, e2);
-            let mut x = lo;
-            while x < hi && (f0 | f1 | f2) < 0 {
-                x += 1;
-                f0 += col[0];
-                f1 += col[1];
-                f2 += col[2];
+            let mut v = [0, 1, 2].map(|i| wide::i32x4::splat(e_row[i]) + ramp[i]);
+            let mut outside = 0u32;
+            for k in 0..steps {
+                // Sign bits: 1 where some edge is negative (outside).
+                outside |= ((v[0] | v[1] | v[2]).move_mask() as u32) << (4 * k);
+                for i in 0..3 {
+                    v[i] += four[i];
+                }
             }
-            let xs = x;
-            while x < hi && (f0 | f1 | f2) >= 0 {
-                x += 1;
-                f0 += col[0];
-                f1 += col[1];
-                f2 += col[2];
+            let inside = !outside & valid;
+            if inside != 0 {
+                let xs = lo + i64::from(inside.trailing_zeros());
+                let xe = lo + 32 - i64::from(inside.leading_zeros());
+                row(y, xs, xe);
             }
-            if xs < x {
-                row(y, xs, x);
+            for i in 0..3 {
+                e_row[i] += down[i];
             }
-            e0 += down[0];
-            e1 += down[1];
-            e2 += down[2];
         }
         return;
     }
@@ -188,8 +206,8 @@ fn for_each_span(t: &RasterTri, width: u32, y0: i64, y1: i64, mut row: impl FnMu
     }
 }
 
-/// Largest box side (pixels) of a small triangle. Inside its box an edge value is at most
-/// `|a| dx + |b| dy <= 2 ((SMALL_SIDE + 1) 256)^2 < 2^31`.
+/// Largest box side (pixels) of a small triangle. Within its box and 16 columns beyond, an
+/// edge value is at most `|a| dx + |b| dy <= 2 ((SMALL_SIDE + STEP_WIDTH + 1) 256)^2 < 2^31`.
 const SMALL_SIDE: i64 = 64;
 
 /// The covered span `[xs, xe)` within columns `[lo, hi)` of a row whose edge values at `lo`
@@ -264,13 +282,11 @@ fn traverse_impl<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let n = K::ATTRS.min(t.n);
     let mut shaded = 0;
     let (width, y0, y1) = (target.width, target.y0, target.y1);
-    let mut pending = Pending::new();
     for_each_span(t, width, y0, y1, |y, xs, xe| {
-        shaded +=
-            span::<K, PERSPECTIVE, VISIBLE>(t, kernel, tri, target, &mut pending, y, xs, xe, n);
+        shaded += span::<K, PERSPECTIVE, VISIBLE>(t, kernel, tri, target, y, xs, xe, n);
     });
-    if K::LANES == 4 {
-        pending.flush(kernel, tri, target.color);
+    if K::LANES == 4 && !(VISIBLE && K::ACROSS_TRIANGLES) {
+        target.pending.flush(kernel, tri, target.color);
     }
     shaded
 }
@@ -285,7 +301,6 @@ fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
     kernel: &K,
     tri: &K::Tri,
     target: &mut BandTarget,
-    pending: &mut Pending,
     y: i64,
     x_start: i64,
     x_end: i64,
@@ -326,6 +341,7 @@ fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
                 1.0
             };
             if K::LANES == 4 {
+                let pending = &mut target.pending;
                 let slot = &mut pending.attrs[pending.len];
                 for k in 0..n {
                     slot[k] = attrs[k] * w;

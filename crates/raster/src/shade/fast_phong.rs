@@ -305,6 +305,9 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
             FastTri::Phong | FastTri::Small => traverse(t, &self.phong(), &(), target),
         }
     }
+    fn finish(&self, target: &mut BandTarget) {
+        target.pending.flush(&self.phong(), &(), target.color);
+    }
     fn is_fallback(tri: &FastTri) -> bool {
         matches!(tri, FastTri::Phong)
     }

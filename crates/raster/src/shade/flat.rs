@@ -2,7 +2,7 @@
 //! constant-intensity shading, "calculate the intensity for each facet, say, at the centre").
 
 use glam::Vec3;
-use phosphor_lighting::shade;
+use phosphor_lighting::{Vec3x4, shade, shade_x4};
 use phosphor_math::safe_normalize;
 
 use super::{Lit, Mode, VertexIn};
@@ -38,15 +38,37 @@ impl<const FX: u32> Mode for Flat<'_, FX> {
         [0.0; MAX_ATTRS]
     }
     fn triangle(&self, src: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) -> Vec3 {
-        let [a, b, c] = src.map(|v| v.world);
-        // Counter-clockwise is front, so the cross product points outwards.
-        let n = safe_normalize((b - a).cross(c - a), Vec3::ZERO);
-        let centroid = (a + b + c) / 3.0;
+        let (centroid, n) = facet(src);
         shade::<FX>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
+    }
+    fn triangle4(
+        &self,
+        src: [&[VertexIn; 3]; 4],
+        _: [&[ScreenVertex; 3]; 4],
+        _: bool,
+    ) -> [Vec3; 4] {
+        let f = src.map(facet);
+        // Bit for bit `triangle` in every lane.
+        shade_x4::<FX>(
+            self.lit.set,
+            &self.lit.mat,
+            Vec3x4::from_array(f.map(|f| f.0)),
+            Vec3x4::from_array(f.map(|f| f.1)),
+            self.lit.eye,
+        )
+        .to_array()
     }
     fn draw(&self, t: &RasterTri, tri: &Vec3, target: &mut BandTarget) -> u64 {
         traverse(t, self, tri, target)
     }
+}
+
+/// The centroid and the unit face normal (zero when degenerate) of a triangle.
+fn facet(src: &[VertexIn; 3]) -> (Vec3, Vec3) {
+    let [a, b, c] = src.map(|v| v.world);
+    // Counter-clockwise is front, so the cross product points outwards.
+    let n = safe_normalize((b - a).cross(c - a), Vec3::ZERO);
+    ((a + b + c) / 3.0, n)
 }
 
 /// Coverage and depth only, one constant colour (the fill-only speed bound).

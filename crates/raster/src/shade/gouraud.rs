@@ -2,7 +2,7 @@
 //! (seeds: `I4 = (y4 - y2)/(y1 - y2) I1 + (y1 - y4)/(y1 - y2) I2`, then `Ip` along the span).
 
 use glam::Vec3;
-use phosphor_lighting::shade;
+use phosphor_lighting::{Vec3x4, shade, shade_x4};
 
 use super::{Lit, Mode, VertexIn, get3, put3};
 use crate::clip::{Attrs, MAX_ATTRS};
@@ -39,6 +39,22 @@ impl<const FX: u32> Mode for Gouraud<'_, FX> {
         let i = shade::<FX>(self.lit.set, &self.lit.mat, v.world, v.normal, self.lit.eye);
         put3(&mut a, 0, i.min(Vec3::ONE));
         a
+    }
+    fn vertex4(&self, v: [&VertexIn; 4]) -> [Attrs; 4] {
+        // Bit for bit `vertex` in every lane.
+        let i = shade_x4::<FX>(
+            self.lit.set,
+            &self.lit.mat,
+            Vec3x4::from_array(v.map(|v| v.world)),
+            Vec3x4::from_array(v.map(|v| v.normal)),
+            self.lit.eye,
+        )
+        .to_array();
+        i.map(|i| {
+            let mut a = [0.0; MAX_ATTRS];
+            put3(&mut a, 0, i.min(Vec3::ONE));
+            a
+        })
     }
     fn triangle(&self, _: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) {}
     fn draw(&self, t: &RasterTri, tri: &(), target: &mut BandTarget) -> u64 {

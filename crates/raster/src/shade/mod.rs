@@ -50,6 +50,10 @@ pub trait Mode: Sync {
     const EARLY_Z: bool = false;
     /// The attributes of one vertex.
     fn vertex(&self, v: &VertexIn) -> Attrs;
+    /// [`Mode::vertex`] of four vertices (modes that shade per vertex do it four at a time).
+    fn vertex4(&self, v: [&VertexIn; 4]) -> [Attrs; 4] {
+        v.map(|v| self.vertex(v))
+    }
     /// Set-up for one screen triangle (`screen`, with attributes divided by `w` when
     /// `perspective`) cut from mesh triangle `src`.
     fn triangle(
@@ -58,8 +62,23 @@ pub trait Mode: Sync {
         screen: &[ScreenVertex; 3],
         perspective: bool,
     ) -> Self::Tri;
+    /// [`Mode::triangle`] of four triangles (modes that shade per triangle do it four at a
+    /// time).
+    fn triangle4(
+        &self,
+        src: [&[VertexIn; 3]; 4],
+        screen: [&[ScreenVertex; 3]; 4],
+        perspective: bool,
+    ) -> [Self::Tri; 4] {
+        std::array::from_fn(|k| self.triangle(src[k], screen[k], perspective))
+    }
     /// Draws the triangle's pixels inside `target`; returns the pixels shaded.
     fn draw(&self, t: &RasterTri, tri: &Self::Tri, target: &mut BandTarget) -> u64;
+    /// Called after a band's last triangle: shades pixels still waiting in
+    /// `target.pending` (kernels shading four pixels across triangles).
+    fn finish(&self, target: &mut BandTarget) {
+        let _ = target;
+    }
     /// True when the set-up fell back to a costlier kernel (fast Phong to Phong).
     fn is_fallback(_tri: &Self::Tri) -> bool {
         false

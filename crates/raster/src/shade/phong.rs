@@ -43,6 +43,7 @@ impl<const FX: u32, const BUMP: bool> Kernel for Phong<'_, FX, BUMP> {
     #[inline]
     fn step(_: &mut ()) {}
     const LANES: usize = 4;
+    const ACROSS_TRIANGLES: bool = true;
     #[inline]
     fn shade_lanes(&self, _: &(), attrs: &[Attrs; 4], _: usize) -> [Vec3; 4] {
         let p = attrs.map(|a| get3(&a, 0));
@@ -78,5 +79,8 @@ impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
     fn triangle(&self, _: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) {}
     fn draw(&self, t: &RasterTri, tri: &(), target: &mut BandTarget) -> u64 {
         traverse(t, self, tri, target)
+    }
+    fn finish(&self, target: &mut BandTarget) {
+        target.pending.flush(self, &(), target.color);
     }
 }

@@ -80,6 +80,7 @@ fn scanline_increments_reproduce_the_seeds_closed_form_i4_i5_ip() {
             count: false,
             pass: Pass::Full,
             ids: &[],
+            pending: crate::scanline::Pending::new(),
         };
         let n = traverse(&tri, &Record, &(), &mut target);
         assert!(n > 100);
