@@ -179,8 +179,9 @@ pub fn map_indices<T: Send>(
 static EPOCH: AtomicU64 = AtomicU64::new(1);
 
 thread_local! {
-    /// Per-thread scratch of the depth pass: the nearest triangle's id per band pixel.
-    static IDS: RefCell<Vec<u64>> = const { RefCell::new(Vec::new()) };
+    /// Per-thread scratch of the depth pass: the nearest triangle's id per band pixel, and
+    /// per record whether it was nearest anywhere when drawn.
+    static SCRATCH: RefCell<(Vec<u64>, Vec<bool>)> = const { RefCell::new((Vec::new(), Vec::new())) };
 }
 
 /// Draws the binned triangles `chunks` (in submission order, chunk after chunk) with `mode`
@@ -198,7 +199,7 @@ pub fn draw_bands<M: Mode>(
     let width = fb.width();
     let n = M::ATTRS;
     // Set-up of record `r` of chunk `c` into `t`; false when it has no vertices or no area.
-    let setup = |t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec| -> bool {
+    let setup = |t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec, n: usize| -> bool {
         let vert = |i: u32| {
             if i & EXTRA_VERTEX != 0 {
                 c.extra.get((i & !EXTRA_VERTEX) as usize)
@@ -234,7 +235,7 @@ pub fn draw_bands<M: Mode>(
             for c in chunks {
                 for r in c.band(b) {
                     if let Some(tri) = c.tris.get(r.tri as usize) {
-                        if setup(&mut t, c, r) {
+                        if setup(&mut t, c, r, n) {
                             shaded += mode.draw(&t, tri, &mut target);
                         }
                     }
@@ -243,8 +244,9 @@ pub fn draw_bands<M: Mode>(
             return shaded;
         }
         let BandTarget { color, depth, .. } = target;
-        IDS.with(|ids| {
-            let mut ids = ids.borrow_mut();
+        SCRATCH.with(|scratch| {
+            let mut scratch = scratch.borrow_mut();
+            let (ids, wrote) = &mut *scratch;
             if ids.len() < color.len() {
                 ids.resize(color.len(), 0);
             }
@@ -261,20 +263,22 @@ pub fn draw_bands<M: Mode>(
             };
             let epoch = EPOCH.fetch_add(1, Ordering::Relaxed) << 32;
             let mut seq = epoch;
+            // Depth only: set-up without attributes (same edges and depth plane), and a note of
+            // the triangles that were nearest somewhere when drawn (only they can be visible).
+            wrote.clear();
             for c in chunks {
                 for r in c.band(b) {
-                    if setup(&mut t, c, r) {
-                        depth_only(&t, &mut target, &mut ids, seq);
-                    }
+                    wrote.push(setup(&mut t, c, r, 0) && depth_only(&t, &mut target, ids, seq) > 0);
                     seq += 1;
                 }
             }
-            target.ids = &ids;
+            target.ids = ids;
             let (mut shaded, mut seq) = (0, epoch);
             for c in chunks {
                 for r in c.band(b) {
-                    if let Some(tri) = c.tris.get(r.tri as usize) {
-                        if setup(&mut t, c, r) {
+                    let candidate = wrote.get((seq - epoch) as usize) == Some(&true);
+                    if let (true, Some(tri)) = (candidate, c.tris.get(r.tri as usize)) {
+                        if setup(&mut t, c, r, n) {
                             target.pass = Pass::Visible(seq);
                             shaded += mode.draw(&t, tri, &mut target);
                         }
