@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use rayon::prelude::*;
 
-use crate::framebuffer::Framebuffer;
+use crate::framebuffer::{FAR_DEPTH, Framebuffer};
 use crate::scanline::{BandTarget, Pass, Pending, depth_only};
 use crate::setup::{RasterTri, ScreenVertex};
 use crate::shade::Mode;
@@ -213,8 +213,15 @@ pub fn draw_bands<M: Mode>(
         }
     };
     let chunk = (BAND_ROWS * width) as usize;
+    let clear = fb.pending_clear.take();
     let (color, depth) = (&mut fb.color, &mut fb.depth);
     let run = |(b, (color, depth)): (usize, (&mut [glam::Vec3], &mut [f32]))| -> u64 {
+        if let Some(bg) = clear {
+            // The frame's clear, deferred to here: each band clears its rows in parallel,
+            // just before drawing them (they stay in cache).
+            color.fill(bg);
+            depth.fill(FAR_DEPTH);
+        }
         let y0 = b as i64 * BAND_ROWS as i64;
         let y1 = y0 + (color.len() / width as usize) as i64;
         let in_band: usize = chunks.iter().map(|c| c.band(b).len()).sum();

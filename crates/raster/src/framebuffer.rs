@@ -45,6 +45,9 @@ pub struct Framebuffer {
     height: u32,
     pub(crate) color: Vec<Vec3>,
     pub(crate) depth: Vec<f32>,
+    /// A clear the renderer has deferred to its band jobs (each clears its own rows, in
+    /// parallel, just before drawing them); never left set when `render` returns.
+    pub(crate) pending_clear: Option<Vec3>,
 }
 
 /// Clamps to `[0, 1]`, NaN to 0: the one gate every colour passes on its way to a pixel.
@@ -81,6 +84,7 @@ impl Framebuffer {
             height,
             color: vec![Vec3::ZERO; n],
             depth: vec![FAR_DEPTH; n],
+            pending_clear: None,
         })
     }
 
@@ -101,6 +105,19 @@ impl Framebuffer {
         let bg = clamp_color(background);
         self.color.fill(bg);
         self.depth.fill(FAR_DEPTH);
+        self.pending_clear = None;
+    }
+
+    /// Defers [`Framebuffer::clear`] to the next banded draw (the renderer's own use).
+    pub(crate) fn defer_clear(&mut self, background: Vec3) {
+        self.pending_clear = Some(clamp_color(background));
+    }
+
+    /// Carries out a deferred clear that no draw took.
+    pub(crate) fn finish_clear(&mut self) {
+        if let Some(bg) = self.pending_clear {
+            self.clear(bg);
+        }
     }
 
     /// The colour at `(x, y)`, row 0 at the top; black outside the image.

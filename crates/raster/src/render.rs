@@ -28,12 +28,13 @@ pub fn render(
     draws: &[DrawItem],
     opts: &RenderOptions,
 ) -> RenderStats {
-    fb.clear(opts.background);
+    fb.defer_clear(opts.background);
     let mut stats = RenderStats::default();
     let vp = camera.view_proj(fb.width() as f32 / fb.height() as f32);
     for d in draws {
         shade_draw(fb, vp, camera.eye, d, opts, &mut stats);
     }
+    fb.finish_clear();
     stats
 }
 
@@ -45,13 +46,14 @@ pub fn render_fill_only(
     draws: &[DrawItem],
     opts: &RenderOptions,
 ) -> RenderStats {
-    fb.clear(opts.background);
+    fb.defer_clear(opts.background);
     let mut stats = RenderStats::default();
     let vp = camera.view_proj(fb.width() as f32 / fb.height() as f32);
     let mode = FillOnly { color: Vec3::ONE };
     for d in draws {
         run(fb, vp, d, &mode, opts, &mut stats, false);
     }
+    fb.finish_clear();
     stats
 }
 
