@@ -156,7 +156,7 @@ impl View for Viewer {
             threads: 0,
         };
         let report = render_frame(&self.scene, &mut fb, &opts);
-        fb.write_0rgb(out);
+        fb.write_0rgb_threads(out, 0);
         self.fb = Some(fb);
         let ms = start.elapsed().as_secs_f64() * 1e3;
         self.last_ms = ms;

@@ -149,6 +149,33 @@ pub fn map_chunks<I: Sync, T: Send>(
     }
 }
 
+/// Calls `f` on matching chunks of `out` and `src` (`chunk` items each), in parallel on the
+/// cached pool when `threads` asks for more than one.
+pub fn for_each_chunk<O: Send, S: Sync>(
+    threads: usize,
+    out: &mut [O],
+    src: &[S],
+    chunk: usize,
+    f: impl Fn(&mut [O], &[S]) + Sync + Send,
+) {
+    let threads = effective_threads(threads);
+    let chunk = chunk.max(1);
+    match (threads > 1 && out.len() > chunk)
+        .then(|| pool(threads))
+        .flatten()
+    {
+        Some(p) => p.install(|| {
+            out.par_chunks_mut(chunk)
+                .zip(src.par_chunks(chunk))
+                .for_each(|(o, s)| f(o, s));
+        }),
+        None => out
+            .chunks_mut(chunk)
+            .zip(src.chunks(chunk))
+            .for_each(|(o, s)| f(o, s)),
+    }
+}
+
 /// `f(0), f(1), .., f(len - 1)`, in parallel on the cached pool when `threads` asks for more
 /// than one (at least `min_len` indices per task), collected in order into one Vec written in
 /// place (no per-chunk Vecs to concatenate).

@@ -49,13 +49,36 @@ fn table(encoding: Encoding) -> &'static [u8; LUT_SIZE] {
 #[inline]
 #[must_use]
 pub fn encode(value: f32, encoding: Encoding) -> u8 {
-    // NaN maps to 0 before the index is formed (clamp would keep it).
-    let v = if value.is_nan() {
-        0.0
-    } else {
-        value.clamp(0.0, 1.0)
-    };
-    table(encoding)[(v * (LUT_SIZE - 1) as f32 + 0.5) as usize]
+    Encoder::new(encoding).encode(value)
+}
+
+/// [`encode`] with its table looked up once (for whole images).
+#[derive(Debug, Clone, Copy)]
+pub struct Encoder {
+    lut: &'static [u8; LUT_SIZE],
+}
+
+impl Encoder {
+    /// The encoder for `encoding`.
+    #[must_use]
+    pub fn new(encoding: Encoding) -> Encoder {
+        Encoder {
+            lut: table(encoding),
+        }
+    }
+
+    /// Same as [`encode`].
+    #[inline]
+    #[must_use]
+    pub fn encode(self, value: f32) -> u8 {
+        // NaN maps to 0 before the index is formed (clamp would keep it).
+        let v = if value.is_nan() {
+            0.0
+        } else {
+            value.clamp(0.0, 1.0)
+        };
+        self.lut[(v * (LUT_SIZE - 1) as f32 + 0.5) as usize]
+    }
 }
 
 #[cfg(test)]

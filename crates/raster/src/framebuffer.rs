@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
-use crate::encode::{Encoding, encode};
+use crate::encode::{Encoder, Encoding};
 
 /// Errors of the raster crate; each names the file or the value at fault.
 #[derive(Debug, thiserror::Error)]
@@ -152,24 +152,35 @@ impl Framebuffer {
 
     /// Writes softbuffer's `0x00RRGGBB`, sRGB-encoded, into `out` (as many pixels as both hold).
     pub fn write_0rgb(&self, out: &mut [u32]) {
-        for (dst, c) in out.iter_mut().zip(&self.color) {
-            let r = encode(c.x, Encoding::Srgb) as u32;
-            let g = encode(c.y, Encoding::Srgb) as u32;
-            let b = encode(c.z, Encoding::Srgb) as u32;
-            *dst = (r << 16) | (g << 8) | b;
-        }
+        self.write_0rgb_threads(out, 1);
+    }
+
+    /// [`Framebuffer::write_0rgb`] on `threads` threads (0 = all cores), by rows; the same bytes.
+    pub fn write_0rgb_threads(&self, out: &mut [u32], threads: usize) {
+        let enc = Encoder::new(Encoding::Srgb);
+        let n = out.len().min(self.color.len());
+        let rows = self.width as usize * 16;
+        crate::bands::for_each_chunk(
+            threads,
+            &mut out[..n],
+            &self.color[..n],
+            rows,
+            |dst, src| {
+                for (dst, c) in dst.iter_mut().zip(src) {
+                    let (r, g, b) = (enc.encode(c.x), enc.encode(c.y), enc.encode(c.z));
+                    *dst = (u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b);
+                }
+            },
+        );
     }
 
     /// Interleaved 8-bit RGB, row-major from the top, through the encoding table.
     #[must_use]
     pub fn to_rgb8(&self, encoding: Encoding) -> Vec<u8> {
+        let enc = Encoder::new(encoding);
         let mut out = Vec::with_capacity(self.color.len() * 3);
         for c in &self.color {
-            out.extend([
-                encode(c.x, encoding),
-                encode(c.y, encoding),
-                encode(c.z, encoding),
-            ]);
+            out.extend([enc.encode(c.x), enc.encode(c.y), enc.encode(c.z)]);
         }
         out
     }
@@ -230,6 +241,7 @@ fn save_atomic(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::encode::encode;
 
     #[test]
     fn zero_size_is_an_error_not_a_panic() {
@@ -247,6 +259,29 @@ mod tests {
         fb.write_0rgb(&mut out);
         assert_eq!(out[0] >> 8, 0xff00);
         assert_eq!(fb.to_rgb8(Encoding::Linear)[..3], [255, 0, 128]);
+    }
+
+    #[test]
+    fn presenting_on_several_threads_gives_the_same_bytes() {
+        let mut fb = Framebuffer::new(37, 41).unwrap();
+        for (i, c) in fb.color.iter_mut().enumerate() {
+            let t = i as f32 * 0.37;
+            *c = Vec3::new(t.sin(), (t * 0.5).cos(), (t * 0.01).fract() * 1.2 - 0.1);
+        }
+        fb.color[5] = Vec3::new(f32::NAN, f32::INFINITY, -1.0);
+        let expected: Vec<u32> = fb
+            .color
+            .iter()
+            .map(|c| {
+                let [r, g, b] = [c.x, c.y, c.z].map(|v| u32::from(encode(v, Encoding::Srgb)));
+                (r << 16) | (g << 8) | b
+            })
+            .collect();
+        for threads in [1, 2, 3, 0] {
+            let mut out = vec![0u32; fb.color.len()];
+            fb.write_0rgb_threads(&mut out, threads);
+            assert_eq!(out, expected, "{threads} threads");
+        }
     }
 
     #[test]
