@@ -34,11 +34,14 @@ pub const FAST_PHONG_TOLERANCE: f32 = 1.0 / 255.0;
 pub const MAX_SMOOTH_LOBE_SHARPNESS: f32 = 1.0;
 
 /// Triangles covering less screen area than this (in pixels) are shaded per pixel with `phong`
-/// without trying a fit: the fit evaluates the exact model at ten points, more than such a
-/// triangle has pixels (the S1 bunny at 1080p averages about six pixels a triangle). Exact
-/// Phong is the more accurate of the two, so this only trades speed, and it is not counted
-/// as a fallback.
-pub const MIN_FIT_AREA_PX: f64 = 12.0;
+/// without trying a fit: the fit evaluates the exact model at ten points plus its bound checks
+/// (about 8 000 instructions), while `phong` shades four pixels at a time for about 250
+/// instructions a pixel, so below about 32 pixels the fit cannot pay for itself (the S1 bunny at
+/// 1080p averages about six pixels a triangle; there `fast-phong` costs 567 M instructions a
+/// frame with a limit of 12 pixels, 373 M with 32, against 333 M for `phong`, callgrind, one
+/// thread). Exact Phong is the more accurate of the two, so this only trades speed, and it is
+/// not counted as a fallback.
+pub const MIN_FIT_AREA_PX: f64 = 32.0;
 
 /// The fast Phong mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
@@ -285,15 +288,16 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
         screen: &[ScreenVertex; 3],
         perspective: bool,
     ) -> FastTri {
+        // The area first: most triangles of a dense mesh stop here, before any set-up.
+        let [a, b, c] = screen.map(|v| DVec2::new(v.x, v.y));
+        if (b - a).perp_dot(c - a).abs() * 0.5 < MIN_FIT_AREA_PX {
+            return FastTri::Small;
+        }
         // The sorted set-up (any vertex order would do for the fit).
         let Some(geom) = setup(*screen, Self::ATTRS, perspective, false) else {
             return FastTri::Small;
         };
         let geom = &geom;
-        let [a, b, c] = geom.v.map(|v| DVec2::new(v.x, v.y));
-        if (b - a).perp_dot(c - a).abs() * 0.5 < MIN_FIT_AREA_PX {
-            return FastTri::Small;
-        }
         match self.fit(geom) {
             Some(p) => FastTri::Poly(p),
             None => FastTri::Phong,
