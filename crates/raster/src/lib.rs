@@ -3,8 +3,11 @@
 //! The pipeline per draw: vertex stage (model, view, projection with glam's right-handed
 //! look-at and OpenGL perspective), homogeneous clipping against the near plane and a guard
 //! band ([`clip`]), perspective divide, viewport and 1/256-pixel snapping ([`setup`]), optional
-//! back-face culling, then scan-line traversal ([`scanline`]) over horizontal bands in parallel
-//! ([`bands`]) with a z-buffer (depth in `[0, 1]`, less-than test, the far plane not drawn).
+//! back-face culling, then traversal by scan line and span over each triangle's bounding box
+//! ([`scanline`], integer edge functions) in horizontal bands in parallel ([`bands`]) with a
+//! z-buffer (depth in `[0, 1]`, less-than test, the far plane not drawn). Per-pixel modes draw a
+//! band in two passes, depth first, so each pixel is shaded once, and shade four pixels at a
+//! time (`phosphor_lighting::shade_x4`, bit-identical to the scalar model).
 //!
 //! Conventions (DESIGN.md): row 0 at the top, pixel centres at `(x + 0.5, y + 0.5)`, front faces
 //! counter-clockwise. Coverage follows a top-left rule for spans: rows `ceil(y0 - 0.5) ..

@@ -194,7 +194,8 @@ struct Group<'m, M> {
 }
 
 impl<M: Mode> Group<'_, M> {
-    /// Queues a triangle; returns the index its data will have in `tris`.
+    /// Queues a triangle (or computes its data at once when the mode does not batch); returns
+    /// the index its data will have in `tris`.
     fn add(
         &mut self,
         src: [VertexIn; 3],
@@ -202,6 +203,10 @@ impl<M: Mode> Group<'_, M> {
         tris: &mut Vec<M::Tri>,
     ) -> u32 {
         let at = (tris.len() + self.src.len()) as u32;
+        if !M::BATCH_TRIANGLES {
+            tris.push(self.mode.triangle(&src, &screen, self.perspective));
+            return at;
+        }
         self.src.push((src, screen));
         if self.src.len() == 4 {
             self.flush(tris);

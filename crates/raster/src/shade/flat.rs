@@ -41,6 +41,7 @@ impl<const FX: u32> Mode for Flat<'_, FX> {
         let (centroid, n) = facet(src);
         shade::<FX>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
     }
+    const BATCH_TRIANGLES: bool = true;
     fn triangle4(
         &self,
         src: [&[VertexIn; 3]; 4],

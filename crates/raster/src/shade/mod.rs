@@ -62,6 +62,9 @@ pub trait Mode: Sync {
         screen: &[ScreenVertex; 3],
         perspective: bool,
     ) -> Self::Tri;
+    /// Whether the renderer gathers triangles to call [`Mode::triangle4`] (modes whose
+    /// per-triangle data costs a lighting evaluation); others get [`Mode::triangle`] directly.
+    const BATCH_TRIANGLES: bool = false;
     /// [`Mode::triangle`] of four triangles (modes that shade per triangle do it four at a
     /// time).
     fn triangle4(
