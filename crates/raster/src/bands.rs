@@ -12,7 +12,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rayon::prelude::*;
 
 use crate::framebuffer::{FAR_DEPTH, Framebuffer};
-use crate::scanline::{BandTarget, Pass, Pending, depth_only};
+use crate::scanline::{BandTarget, Pass, depth_only};
 use crate::setup::{RasterTri, ScreenVertex};
 use crate::shade::Mode;
 
@@ -250,20 +250,9 @@ pub fn draw_bands<M: Mode>(
             depth.fill(FAR_DEPTH);
         }
         let y0 = b as i64 * BAND_ROWS as i64;
-        let y1 = y0 + (color.len() / width as usize) as i64;
         let in_band: usize = chunks.iter().map(|c| c.band(b).len()).sum();
         let mut t = RasterTri::empty();
-        let mut target = BandTarget {
-            color,
-            depth,
-            width,
-            y0,
-            y1,
-            count,
-            pass: Pass::Full,
-            ids: &[],
-            pending: Pending::new(),
-        };
+        let mut target = BandTarget::new(color, depth, width, y0, count);
         if !M::EARLY_Z || count || in_band < 2 {
             let mut shaded = 0;
             for c in chunks {
@@ -284,17 +273,7 @@ pub fn draw_bands<M: Mode>(
             if ids.len() < color.len() {
                 ids.resize(color.len(), 0);
             }
-            let mut target = BandTarget {
-                color,
-                depth,
-                width,
-                y0,
-                y1,
-                count,
-                pass: Pass::Full,
-                ids: &[],
-                pending: Pending::new(),
-            };
+            let mut target = BandTarget::new(color, depth, width, y0, count);
             let epoch = EPOCH.fetch_add(1, Ordering::Relaxed) << 32;
             let mut seq = epoch;
             // Depth only: set-up without attributes (same edges and depth plane), and a note of

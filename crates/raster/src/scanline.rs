@@ -134,6 +134,32 @@ pub struct BandTarget<'a> {
     pub pending: Pending,
 }
 
+impl<'a> BandTarget<'a> {
+    /// The band of rows `y0..` held in `color` and `depth` (`width` pixels a row), drawn in
+    /// one full pass.
+    #[must_use]
+    pub fn new(
+        color: &'a mut [Vec3],
+        depth: &'a mut [f32],
+        width: u32,
+        y0: i64,
+        count: bool,
+    ) -> BandTarget<'a> {
+        let rows = color.len() / width.max(1) as usize;
+        BandTarget {
+            color,
+            depth,
+            width,
+            y0,
+            y1: y0 + rows as i64,
+            count,
+            pass: Pass::Full,
+            ids: &[],
+            pending: Pending::new(),
+        }
+    }
+}
+
 /// The depth test and the depth written by every pass (one definition, so the depth pass and
 /// a single full pass agree bit for bit).
 #[inline(always)]

@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::scanline::{BandTarget, Kernel, Pass, traverse};
+use crate::scanline::{BandTarget, Kernel, traverse};
 use crate::setup::{RasterTri, ScreenVertex};
 
 struct Record;
@@ -71,17 +71,7 @@ fn scanline_increments_reproduce_the_seeds_closed_form_i4_i5_ip() {
         let tri = RasterTri::new([&verts[0], &verts[1], &verts[2]], 1, false).unwrap();
         let mut color = vec![Vec3::splat(-1.0); (w * h) as usize];
         let mut depth = vec![1.0; (w * h) as usize];
-        let mut target = BandTarget {
-            color: &mut color,
-            depth: &mut depth,
-            width: w,
-            y0: 0,
-            y1: h as i64,
-            count: false,
-            pass: Pass::Full,
-            ids: &[],
-            pending: crate::scanline::Pending::new(),
-        };
+        let mut target = BandTarget::new(&mut color, &mut depth, w, 0, false);
         let n = traverse(&tri, &Record, &(), &mut target);
         assert!(n > 100);
         let mut checked = 0;
