@@ -1,6 +1,7 @@
-//! Triangle setup (once per triangle): perspective divide, viewport, sub-pixel snapping,
-//! orientation and culling, row range, and the screen-space gradients `dA/dx` of depth, `1/w`
-//! and every attribute (the plane equations the traversal steps along).
+//! Triangle set-up: perspective divide, viewport and sub-pixel snapping per vertex
+//! ([`to_screen`]), then per triangle and band ([`RasterTri`]) orientation, the pixel box, the
+//! integer edge functions and the screen-space planes of depth, `1/w` and every attribute (what
+//! the traversal steps along).
 
 use phosphor_math::fixed::{SUBPIXEL_ONE, to_fixed};
 
@@ -28,31 +29,6 @@ pub struct ScreenVertex {
     pub rhw: f64,
     /// Attributes, divided by `w` when perspective-correct.
     pub attrs: Attrs,
-}
-
-/// Everything the traversal needs about one triangle, vertices sorted top to bottom.
-#[derive(Debug, Clone, Copy)]
-pub struct TriGeom {
-    /// Vertices sorted by `fy` (then `fx`).
-    pub v: [ScreenVertex; 3],
-    /// Attributes in use.
-    pub n: usize,
-    /// Whether attributes are divided by `w` (perspective-correct).
-    pub perspective: bool,
-    /// True when the long edge `v0 -> v2` is the left edge.
-    pub long_left: bool,
-    /// `d depth / dx`.
-    pub ddepth_dx: f64,
-    /// `d (1/w) / dx`.
-    pub dinv_w_dx: f64,
-    /// `d attr / dx` for each attribute.
-    pub dattr_dx: Attrs,
-    /// First row whose pixel centre is at or below `v0` (`ceil(y0 - 0.5)`).
-    pub row_start: i64,
-    /// First row whose centre is at or below `v1` (top half ends here).
-    pub row_mid: i64,
-    /// One past the last row (`ceil(y2 - 0.5)`).
-    pub row_end: i64,
 }
 
 /// `ceil(a / b)` for `b > 0`, exact in integers.
@@ -118,80 +94,14 @@ pub fn screen_area2(a: &ScreenVertex, b: &ScreenVertex, c: &ScreenVertex) -> i64
     (b.fx - a.fx) * (c.fy - a.fy) - (c.fx - a.fx) * (b.fy - a.fy)
 }
 
-/// Sets up a triangle; `None` when it has zero area, is culled, or covers no pixel centre row.
-#[must_use]
-pub fn setup(
-    verts: [ScreenVertex; 3],
-    n: usize,
-    perspective: bool,
-    cull_backfaces: bool,
-) -> Option<TriGeom> {
-    let area = screen_area2(&verts[0], &verts[1], &verts[2]);
-    if area == 0 || (cull_backfaces && area > 0) {
-        return None;
-    }
-    // Sort three keys, then move each ~100-byte vertex once (sorting the vertices themselves
-    // was a visible share of set-up's memcpy).
-    let key = |i: usize| (verts[i].fy, verts[i].fx);
-    let mut order = [0, 1, 2];
-    order.sort_by_key(|&i| key(i));
-    let v = order.map(|i| verts[i]);
-    let row_start = first_row_at_or_below(v[0].fy);
-    let row_mid = first_row_at_or_below(v[1].fy);
-    let row_end = first_row_at_or_below(v[2].fy);
-    if row_start >= row_end {
-        return None;
-    }
-    // v1 left of the long edge (screen frame) <=> area(v0, v1, v2) > 0 ... exactly:
-    // x_long(y1) < x1  <=>  (y1 - y0)(x2 - x0) < (x1 - x0)(y2 - y0).
-    let cross =
-        (v[1].fy - v[0].fy) * (v[2].fx - v[0].fx) - (v[1].fx - v[0].fx) * (v[2].fy - v[0].fy);
-    let long_left = cross < 0;
-    // Plane gradients in x: dA/dx = ((A1-A0)(y2-y0) - (A2-A0)(y1-y0)) / area.
-    let (dx1, dy1) = (v[1].x - v[0].x, v[1].y - v[0].y);
-    let (dx2, dy2) = (v[2].x - v[0].x, v[2].y - v[0].y);
-    let area_f = dx1 * dy2 - dx2 * dy1;
-    let inv_area = 1.0 / area_f;
-    let grad = |a0: f64, a1: f64, a2: f64| ((a1 - a0) * dy2 - (a2 - a0) * dy1) * inv_area;
-    let mut dattr_dx = [0.0; MAX_ATTRS];
-    for j in 0..n {
-        dattr_dx[j] = grad(
-            v[0].attrs[j] as f64,
-            v[1].attrs[j] as f64,
-            v[2].attrs[j] as f64,
-        ) as f32;
-    }
-    let geom = TriGeom {
-        v,
-        n,
-        perspective,
-        long_left,
-        ddepth_dx: grad(v[0].depth, v[1].depth, v[2].depth),
-        dinv_w_dx: grad(v[0].inv_w, v[1].inv_w, v[2].inv_w),
-        dattr_dx,
-        row_start,
-        row_mid,
-        row_end,
-    };
-    Some(geom)
-}
-
-/// `ceil((v - 0.5 px) / 1 px)` for a fixed-point `v`: the first pixel whose centre is at or
-/// after `v` (exact; an arithmetic shift floors for negative values too).
-#[inline]
-#[must_use]
-pub fn first_centre_at_or_after(v: i64) -> i64 {
-    (v - HALF + SUBPIXEL_ONE - 1) >> phosphor_math::fixed::SUBPIXEL_BITS
-}
-
-/// The pixel rows `[lo, hi)` whose centres a triangle with these fixed-point `y` can cover
-/// (the same rows as [`setup`]'s `row_start .. row_end`).
+/// The pixel rows `[lo, hi)` whose centres a triangle with these fixed-point `y` can cover:
+/// `ceil(y_top - 0.5) .. ceil(y_bottom - 0.5)` (also used for columns with `x`).
 #[inline]
 #[must_use]
 pub fn row_range(fy: [i64; 3]) -> (i64, i64) {
     let lo = fy[0].min(fy[1]).min(fy[2]);
     let hi = fy[0].max(fy[1]).max(fy[2]);
-    (first_centre_at_or_after(lo), first_centre_at_or_after(hi))
+    (first_row_at_or_below(lo), first_row_at_or_below(hi))
 }
 
 /// A triangle ready for the bounding-box traversal: three integer edge functions, the pixel

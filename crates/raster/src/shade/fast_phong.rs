@@ -21,7 +21,7 @@ use super::{Lit, Mode, VertexIn, surface_attrs};
 use crate::clip::Attrs;
 use crate::framebuffer::clamp_color;
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::{RasterTri, ScreenVertex, TriGeom, setup};
+use crate::setup::{RasterTri, ScreenVertex};
 
 /// Largest error (per channel, on the `[0, 1]` intensity) the fit may show at the check
 /// points before the triangle falls back to `phong`: one 8-bit code.
@@ -156,9 +156,27 @@ impl Kernel for PolyKernel {
     }
 }
 
+/// The screen triangle a fit is made on: vertices sorted top to bottom (by `y`, then `x`), so
+/// that the fit does not depend on the mesh's vertex order.
+struct FitTri {
+    v: [ScreenVertex; 3],
+    perspective: bool,
+}
+
+impl FitTri {
+    fn new(screen: &[ScreenVertex; 3], perspective: bool) -> FitTri {
+        let mut order = [0, 1, 2];
+        order.sort_by_key(|&i| (screen[i].fy, screen[i].fx));
+        FitTri {
+            v: order.map(|i| screen[i]),
+            perspective,
+        }
+    }
+}
+
 impl<const FX: u32> FastPhong<'_, FX> {
     /// Perspective-correct surface point and (unnormalized) normal at screen barycentrics `l`.
-    fn surface(geom: &TriGeom, l: [f64; 3]) -> (Vec3, Vec3) {
+    fn surface(geom: &FitTri, l: [f64; 3]) -> (Vec3, Vec3) {
         let q: [f64; 3] = std::array::from_fn(|i| {
             if geom.perspective {
                 l[i] * geom.v[i].inv_w
@@ -189,13 +207,13 @@ impl<const FX: u32> FastPhong<'_, FX> {
     }
 
     /// Exact terms at screen barycentrics `l` (perspective-correct point and normal).
-    fn exact(&self, geom: &TriGeom, l: [f64; 3]) -> ShadeTerms {
+    fn exact(&self, geom: &FitTri, l: [f64; 3]) -> ShadeTerms {
         let (p, n) = Self::surface(geom, l);
         self.shade(p, n)
     }
 
     /// Fits the quadratics, or `None` when the check points show more than the tolerance.
-    fn fit(&self, geom: &TriGeom) -> Option<PolyTri> {
+    fn fit(&self, geom: &FitTri) -> Option<PolyTri> {
         let third = 1.0 / 3.0;
         let nodes = [
             [1.0, 0.0, 0.0],
@@ -293,12 +311,8 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
         if (b - a).perp_dot(c - a).abs() * 0.5 < MIN_FIT_AREA_PX {
             return FastTri::Small;
         }
-        // The sorted set-up (any vertex order would do for the fit).
-        let Some(geom) = setup(*screen, Self::ATTRS, perspective, false) else {
-            return FastTri::Small;
-        };
-        let geom = &geom;
-        match self.fit(geom) {
+        // Sorted corners: the fit is the same whatever the mesh's vertex order.
+        match self.fit(&FitTri::new(screen, perspective)) {
             Some(p) => FastTri::Poly(p),
             None => FastTri::Phong,
         }
