@@ -11,9 +11,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use rayon::prelude::*;
 
-use crate::framebuffer::{FAR_DEPTH, Framebuffer};
+use crate::framebuffer::{Framebuffer, fill_rows};
 use crate::scanline::{BandTarget, Pass, depth_only};
-use crate::setup::{RasterTri, ScreenVertex};
+use crate::setup::{RasterTri, ScreenPos, ScreenVertex};
 use crate::shade::Mode;
 
 /// Scan lines per band.
@@ -149,28 +149,30 @@ pub fn map_chunks<I: Sync, T: Send>(
     }
 }
 
-/// Calls `f` on matching chunks of `out` and `src` (`chunk` items each), in parallel on the
-/// cached pool when `threads` asks for more than one.
+/// Calls `f` on matching chunks of `out` (`chunk * per` items each) and `src` (`chunk` items
+/// each: `per` outputs per source item), in parallel on the cached pool when `threads` asks for
+/// more than one.
 pub fn for_each_chunk<O: Send, S: Sync>(
     threads: usize,
     out: &mut [O],
     src: &[S],
-    chunk: usize,
+    (chunk, per): (usize, usize),
     f: impl Fn(&mut [O], &[S]) + Sync + Send,
 ) {
     let threads = effective_threads(threads);
     let chunk = chunk.max(1);
-    match (threads > 1 && out.len() > chunk)
+    let out_chunk = chunk * per.max(1);
+    match (threads > 1 && src.len() > chunk)
         .then(|| pool(threads))
         .flatten()
     {
         Some(p) => p.install(|| {
-            out.par_chunks_mut(chunk)
+            out.par_chunks_mut(out_chunk)
                 .zip(src.par_chunks(chunk))
                 .for_each(|(o, s)| f(o, s));
         }),
         None => out
-            .chunks_mut(chunk)
+            .chunks_mut(out_chunk)
             .zip(src.chunks(chunk))
             .for_each(|(o, s)| f(o, s)),
     }
@@ -212,12 +214,18 @@ thread_local! {
 }
 
 /// Draws the binned triangles `chunks` (in submission order, chunk after chunk) with `mode`
-/// into `fb` over bands; `screen` holds the draw's per-vertex screen vertices. Returns the
-/// pixels shaded.
+/// into `fb` over bands. The draw's per-vertex screen positions are `pos`
+/// ([`ScreenPos::NONE`] where a vertex has none) and its attributes `attrs`, `M::ATTRS` per
+/// vertex. Returns the pixels shaded.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one draw's inputs, passed through once"
+)]
 pub fn draw_bands<M: Mode>(
     fb: &mut Framebuffer,
     mode: &M,
-    screen: &[Option<ScreenVertex>],
+    pos: &[ScreenPos],
+    attrs: &[f32],
     chunks: &[Binned<M::Tri>],
     perspective: bool,
     threads: usize,
@@ -225,19 +233,35 @@ pub fn draw_bands<M: Mode>(
 ) -> u64 {
     let width = fb.width();
     let n = M::ATTRS;
-    // Set-up of record `r` of chunk `c` into `t`; false when it has no vertices or no area.
+    // Set-up of record `r` of chunk `c` into `t` with `n` attributes; false when it has no
+    // vertices or no area.
     let setup = |t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec, n: usize| -> bool {
-        let vert = |i: u32| {
-            if i & EXTRA_VERTEX != 0 {
-                c.extra.get((i & !EXTRA_VERTEX) as usize)
-            } else {
-                screen.get(i as usize).and_then(Option::as_ref)
-            }
-        };
-        match (vert(r.v[0]), vert(r.v[1]), vert(r.v[2])) {
-            (Some(a), Some(b), Some(d)) => t.set([a, b, d], n, perspective),
-            _ => false,
+        if r.v.iter().any(|&i| i & EXTRA_VERTEX != 0) {
+            let v = r.v.map(|i| c.extra.get((i & !EXTRA_VERTEX) as usize));
+            return match v {
+                [Some(a), Some(b), Some(d)] => t.set(
+                    [a.pos(), b.pos(), d.pos()],
+                    [&a.attrs, &b.attrs, &d.attrs],
+                    n,
+                    perspective,
+                ),
+                _ => false,
+            };
         }
+        let p =
+            r.v.map(|i| pos.get(i as usize).copied().unwrap_or(ScreenPos::NONE));
+        if p.iter().any(ScreenPos::is_none) {
+            return false;
+        }
+        let a = r.v.map(|i| {
+            attrs
+                .get(i as usize * M::ATTRS..(i as usize + 1) * M::ATTRS)
+                .unwrap_or(&[])
+        });
+        if a.iter().any(|a| a.len() < n) {
+            return false;
+        }
+        t.set(p, a, n, perspective)
     };
     let chunk = (BAND_ROWS * width) as usize;
     let clear = fb.pending_clear.take();
@@ -246,8 +270,7 @@ pub fn draw_bands<M: Mode>(
         if let Some(bg) = clear {
             // The frame's clear, deferred to here: each band clears its rows in parallel,
             // just before drawing them (they stay in cache).
-            color.fill(bg);
-            depth.fill(FAR_DEPTH);
+            fill_rows(color, depth, bg);
         }
         let y0 = b as i64 * BAND_ROWS as i64;
         let in_band: usize = chunks.iter().map(|c| c.band(b).len()).sum();

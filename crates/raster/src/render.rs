@@ -5,11 +5,12 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use phosphor_lighting::Effects;
 
 use crate::bands::{
-    BAND_ROWS, Binned, EXTRA_VERTEX, TriRec, band_range, draw_bands, map_chunks, map_indices,
+    BAND_ROWS, Binned, EXTRA_VERTEX, TriRec, band_range, draw_bands, for_each_chunk, map_chunks,
+    map_indices,
 };
 use crate::clip::{ClipVertex, clip_triangle, guard_band, inside_clip_volume};
 use crate::framebuffer::{Framebuffer, RasterError};
-use crate::setup::{ScreenVertex, row_range, screen_area2, to_screen};
+use crate::setup::{ScreenPos, ScreenVertex, row_range, to_screen};
 use crate::shade::fast_phong::FastPhong;
 use crate::shade::flat::{FillOnly, Flat};
 use crate::shade::gouraud::Gouraud;
@@ -185,61 +186,96 @@ struct ChunkSetup<T> {
     fallbacks: u64,
 }
 
+/// The world and screen vertices of one accepted triangle, by reference.
+type TriRefs<'v> = ([&'v VertexIn; 3], [&'v ScreenVertex; 3]);
+
 /// Accepted triangles waiting for their mode data, computed four at a time
-/// ([`Mode::triangle4`]).
-struct Group<'m, M> {
+/// ([`Mode::triangle4`]). They wait as references to their vertices, not copies.
+struct Group<'m, 'v, M> {
     mode: &'m M,
     perspective: bool,
-    src: Vec<([VertexIn; 3], [ScreenVertex; 3])>,
+    queued: [Option<TriRefs<'v>>; 4],
+    len: usize,
 }
 
-impl<M: Mode> Group<'_, M> {
+impl<'v, M: Mode> Group<'_, 'v, M> {
     /// Queues a triangle (or computes its data at once when the mode does not batch); returns
     /// the index its data will have in `tris`.
-    fn add(
-        &mut self,
-        src: [VertexIn; 3],
-        screen: [ScreenVertex; 3],
-        tris: &mut Vec<M::Tri>,
-    ) -> u32 {
-        let at = (tris.len() + self.src.len()) as u32;
+    fn add(&mut self, v: TriRefs<'v>, tris: &mut Vec<M::Tri>) -> u32 {
+        let at = (tris.len() + self.len) as u32;
         if !M::BATCH_TRIANGLES {
-            tris.push(self.mode.triangle(&src, &screen, self.perspective));
+            tris.push(self.mode.triangle(v.0, v.1, self.perspective));
             return at;
         }
-        self.src.push((src, screen));
-        if self.src.len() == 4 {
+        self.queued[self.len] = Some(v);
+        self.len += 1;
+        if self.len == 4 {
             self.flush(tris);
         }
         at
     }
 
+    /// Computes the data of a triangle whose vertices do not outlive the call (a clipped
+    /// one), after the queued ones; returns its index in `tris`.
+    fn add_now(
+        &mut self,
+        src: [&VertexIn; 3],
+        screen: [&ScreenVertex; 3],
+        tris: &mut Vec<M::Tri>,
+    ) -> u32 {
+        self.flush(tris);
+        tris.push(self.mode.triangle(src, screen, self.perspective));
+        (tris.len() - 1) as u32
+    }
+
     /// Computes the queued triangles' data into `tris`.
     fn flush(&mut self, tris: &mut Vec<M::Tri>) {
-        let len = self.src.len();
-        if len == 0 {
+        let len = std::mem::take(&mut self.len);
+        let Some(first) = self.queued[0] else {
             return;
-        }
-        let lane = |k: usize| &self.src[k.min(len - 1)];
+        };
+        // Lanes past `len` repeat the first triangle; their results are dropped.
+        let lane = |k: usize| self.queued[k].filter(|_| k < len).unwrap_or(first);
         let out = self.mode.triangle4(
-            std::array::from_fn(|k| &lane(k).0),
-            std::array::from_fn(|k| &lane(k).1),
+            std::array::from_fn(|k| lane(k).0),
+            std::array::from_fn(|k| lane(k).1),
             self.perspective,
         );
         tris.extend(out.into_iter().take(len));
-        self.src.clear();
+        self.queued = [None; 4];
     }
 }
+
+/// What modes that do not read a triangle's vertices ([`Mode::READS_VERTICES`]) are handed.
+const NO_VERTEX: VertexIn = VertexIn {
+    world: Vec3::ZERO,
+    normal: Vec3::ZERO,
+    uv: Vec2::ZERO,
+    tangent: Vec4::ZERO,
+};
+
+/// See [`NO_VERTEX`].
+const NO_SCREEN_VERTEX: ScreenVertex = ScreenVertex {
+    fx: 0,
+    fy: 0,
+    x: 0.0,
+    y: 0.0,
+    depth: 0.0,
+    inv_w: 1.0,
+    rhw: 1.0,
+    attrs: [0.0; crate::clip::MAX_ATTRS],
+};
 
 /// Accepts a screen triangle: not degenerate, not culled, covering at least one row of pixel
 /// centres. Returns its rows (not clipped to the image).
 #[inline]
-fn accept(v: [&ScreenVertex; 3], cull_backfaces: bool) -> Option<(i64, i64)> {
-    let area = screen_area2(v[0], v[1], v[2]);
+fn accept(v: [ScreenPos; 3], cull_backfaces: bool) -> Option<(i64, i64)> {
+    let (x, y) = (v.map(|v| i64::from(v.fx)), v.map(|v| i64::from(v.fy)));
+    let area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
     if area == 0 || (cull_backfaces && area > 0) {
         return None;
     }
-    let rows = row_range([v[0].fy, v[1].fy, v[2].fy]);
+    let rows = row_range(y);
     (rows.0 < rows.1).then_some(rows)
 }
 
@@ -261,29 +297,35 @@ fn run<M: Mode>(
     // Per vertex, once (a mesh vertex is shared by about six triangles): the mode's
     // attributes and, for a vertex inside every clip plane, its screen vertex. A triangle whose
     // three vertices are inside is not changed by clipping, so it takes these as they are.
-    let clip: Vec<ClipVertex> = map_chunks(opts.threads, &verts, 4096, |chunk| {
-        let mut out = Vec::with_capacity(chunk.len());
-        for group in chunk.chunks(4) {
+    let blank = ClipVertex {
+        pos: Vec4::ZERO,
+        attrs: [0.0; crate::clip::MAX_ATTRS],
+    };
+    let mut clip = vec![blank; verts.len()];
+    for_each_chunk(opts.threads, &mut clip, &verts, (4096, 1), |out, src| {
+        for (out, group) in out.chunks_mut(4).zip(src.chunks(4)) {
             let attrs = mode.vertex4(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
-            out.extend(
-                group
-                    .iter()
-                    .zip(attrs)
-                    .map(|(v, attrs)| ClipVertex { pos: v.0, attrs }),
-            );
+            for ((o, v), attrs) in out.iter_mut().zip(group).zip(attrs) {
+                *o = ClipVertex { pos: v.0, attrs };
+            }
         }
-        out
-    })
-    .concat();
+    });
     let screen = map_indices(opts.threads, verts.len(), 4096, |i| {
         let cv = &clip[i];
         (cv.pos.is_finite() && inside_clip_volume(cv.pos, guard))
             .then(|| to_screen(cv, w, h, M::ATTRS, persp))
             .flatten()
     });
+    // Compact copies of what accepting and band set-up read: both fetch vertices all over
+    // the mesh, and a compact vertex spans fewer cache lines.
+    let pos: Vec<ScreenPos> = map_indices(opts.threads, screen.len(), 4096, |i| {
+        screen[i]
+            .as_ref()
+            .map_or(ScreenPos::NONE, ScreenVertex::pos)
+    });
     let bands = h.div_ceil(BAND_ROWS) as usize;
-    let on_screen = |v: [&ScreenVertex; 3], rows: (i64, i64)| {
-        let (x0, x1) = row_range([v[0].fx, v[1].fx, v[2].fx]);
+    let on_screen = |v: [ScreenPos; 3], rows: (i64, i64)| {
+        let (x0, x1) = row_range(v.map(|v| i64::from(v.fx)));
         let cols = x0.max(0) < x1.min(w as i64);
         band_range(rows.0, rows.1, h).filter(|_| cols)
     };
@@ -294,7 +336,8 @@ fn run<M: Mode>(
         let mut group = Group {
             mode,
             perspective: persp,
-            src: Vec::with_capacity(4),
+            queued: [None; 4],
+            len: 0,
         };
         let mut drawn = 0;
         for idx in indices {
@@ -302,19 +345,31 @@ fn run<M: Mode>(
                 continue;
             }
             let [i0, i1, i2] = idx.map(|i| i as usize);
-            let src = [verts[i0].1, verts[i1].1, verts[i2].1];
-            if let (Some(a), Some(b), Some(c)) = (&screen[i0], &screen[i1], &screen[i2]) {
+            let p = [pos[i0], pos[i1], pos[i2]];
+            if !p.iter().any(ScreenPos::is_none) {
                 // The common case: no clipping, screen vertices from the per-vertex pass.
-                let Some(rows) = accept([a, b, c], opts.cull_backfaces) else {
+                let Some(rows) = accept(p, opts.cull_backfaces) else {
                     continue;
                 };
                 drawn += 1;
-                if let Some((b0, b1)) = on_screen([a, b, c], rows) {
-                    let rec = TriRec {
-                        v: idx.map(|i| i),
-                        tri: group.add(src, [*a, *b, *c], &mut tris),
+                if let Some((b0, b1)) = on_screen(p, rows) {
+                    let tri = if M::READS_VERTICES {
+                        let (Some(a), Some(b), Some(c)) = (&screen[i0], &screen[i1], &screen[i2])
+                        else {
+                            continue;
+                        };
+                        group.add(([i0, i1, i2].map(|i| &verts[i].1), [a, b, c]), &mut tris)
+                    } else {
+                        group.add(([&NO_VERTEX; 3], [&NO_SCREEN_VERTEX; 3]), &mut tris)
                     };
-                    staged.push((rec, b0, b1));
+                    staged.push((
+                        TriRec {
+                            v: idx.map(|i| i),
+                            tri,
+                        },
+                        b0,
+                        b1,
+                    ));
                 }
                 continue;
             }
@@ -322,6 +377,7 @@ fn run<M: Mode>(
             if !tri.iter().all(|v| v.pos.is_finite()) {
                 continue;
             }
+            let src = [verts[i0].1, verts[i1].1, verts[i2].1];
             let poly = clip_triangle(&tri, M::ATTRS, guard);
             let pv = poly.vertices();
             let mut sv = [None; crate::clip::MAX_POLY];
@@ -334,16 +390,17 @@ fn run<M: Mode>(
                 let (Some(a), Some(b), Some(c)) = (&sv[0], &sv[k], &sv[k + 1]) else {
                     continue;
                 };
-                let Some(rows) = accept([a, b, c], opts.cull_backfaces) else {
+                let p = [a.pos(), b.pos(), c.pos()];
+                let Some(rows) = accept(p, opts.cull_backfaces) else {
                     continue;
                 };
                 any = true;
-                if let Some((b0, b1)) = on_screen([a, b, c], rows) {
+                if let Some((b0, b1)) = on_screen(p, rows) {
                     let base = extra.len() as u32;
                     extra.extend([*a, *b, *c]);
                     let rec = TriRec {
                         v: [base, base + 1, base + 2].map(|i| i | EXTRA_VERTEX),
-                        tri: group.add(src, [*a, *b, *c], &mut tris),
+                        tri: group.add_now(src.each_ref(), [a, b, c], &mut tris),
                     };
                     staged.push((rec, b0, b1));
                 }
@@ -365,5 +422,21 @@ fn run<M: Mode>(
         stats.fallbacks += c.fallbacks;
         binned.push(c.binned);
     }
-    stats.pixels_shaded += draw_bands(fb, mode, &screen, &binned, persp, opts.threads, count);
+    let mut attrs = vec![0.0; screen.len() * M::ATTRS];
+    if M::ATTRS > 0 {
+        for_each_chunk(
+            opts.threads,
+            &mut attrs,
+            &screen,
+            (4096, M::ATTRS),
+            |out, src| {
+                for (o, s) in out.chunks_exact_mut(M::ATTRS).zip(src) {
+                    if let Some(s) = s {
+                        o.copy_from_slice(&s.attrs[..M::ATTRS]);
+                    }
+                }
+            },
+        );
+    }
+    stats.pixels_shaded += draw_bands(fb, mode, &pos, &attrs, &binned, persp, opts.threads, count);
 }

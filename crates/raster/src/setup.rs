@@ -31,6 +31,53 @@ pub struct ScreenVertex {
     pub attrs: Attrs,
 }
 
+impl ScreenVertex {
+    /// The part of the vertex that band set-up reads besides the attributes.
+    #[inline]
+    #[must_use]
+    pub fn pos(&self) -> ScreenPos {
+        // |fx|, |fy| <= MAX_FIXED_COORD << SUBPIXEL_BITS = 2^28 (see `to_fixed`).
+        ScreenPos {
+            fx: self.fx as i32,
+            fy: self.fy as i32,
+            depth: self.depth,
+            inv_w: self.inv_w,
+        }
+    }
+}
+
+/// What band set-up reads of a vertex besides its attributes, in 24 bytes: a band's triangles
+/// fetch their vertices from all over the mesh, so the fewer cache lines a vertex spans the
+/// less the set-up waits on memory (a whole [`ScreenVertex`] spans two).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScreenPos {
+    /// Snapped x in fixed point ([`ScreenVertex::fx`]; [`i32::MIN`] for no vertex).
+    pub fx: i32,
+    /// Snapped y in fixed point.
+    pub fy: i32,
+    /// Depth in `[0, 1]`.
+    pub depth: f64,
+    /// `1/w` (perspective) or 1.
+    pub inv_w: f64,
+}
+
+impl ScreenPos {
+    /// No vertex (outside the clip volume or not finite): a triangle using it is not drawn.
+    pub const NONE: ScreenPos = ScreenPos {
+        fx: i32::MIN,
+        fy: i32::MIN,
+        depth: 0.0,
+        inv_w: 0.0,
+    };
+
+    /// Whether this is [`ScreenPos::NONE`].
+    #[inline]
+    #[must_use]
+    pub fn is_none(&self) -> bool {
+        self.fx == i32::MIN
+    }
+}
+
 /// `ceil(a / b)` for `b > 0`, exact in integers.
 #[inline]
 #[must_use]
@@ -176,35 +223,52 @@ impl RasterTri {
     #[must_use]
     pub fn new(v: [&ScreenVertex; 3], n: usize, perspective: bool) -> Option<RasterTri> {
         let mut t = RasterTri::empty();
-        t.set(v, n, perspective).then_some(t)
+        let attrs = v.map(|v| &v.attrs[..]);
+        t.set(v.map(ScreenVertex::pos), attrs, n, perspective)
+            .then_some(t)
     }
 
-    /// [`RasterTri::new`] in place (set-up runs per band and triangle; this avoids moving the
-    /// record around). Returns false, leaving `self` unspecified, for zero area.
+    /// [`RasterTri::new`] in place from the vertices' positions `p` and attributes `attrs`
+    /// (at least `n` each): set-up runs per band and triangle, and this avoids moving the
+    /// record around. Returns false, leaving `self` unspecified, for zero area.
     #[inline]
-    pub fn set(&mut self, v: [&ScreenVertex; 3], n: usize, perspective: bool) -> bool {
-        let area = screen_area2(v[0], v[1], v[2]);
+    pub fn set(
+        &mut self,
+        p: [ScreenPos; 3],
+        attrs: [&[f32]; 3],
+        n: usize,
+        perspective: bool,
+    ) -> bool {
+        let fxy = p.map(|p| (i64::from(p.fx), i64::from(p.fy)));
+        let area = (fxy[1].0 - fxy[0].0) * (fxy[2].1 - fxy[0].1)
+            - (fxy[2].0 - fxy[0].0) * (fxy[1].1 - fxy[0].1);
         if area == 0 {
             return false;
         }
         // Interior on the positive side of every edge.
-        let v = if area > 0 { v } else { [v[0], v[2], v[1]] };
+        let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };
+        let (f, p, attrs) = (
+            order.map(|i| fxy[i]),
+            order.map(|i| p[i]),
+            order.map(|i| attrs[i]),
+        );
         let area = area.abs();
         for i in 0..3 {
-            let (p, q) = (v[i], v[(i + 1) % 3]);
+            let (p, q) = (f[i], f[(i + 1) % 3]);
             // E(S) = (q - p) x (S - p) = (qx - px)(Sy - py) - (qy - py)(Sx - px).
-            let a = -(q.fy - p.fy);
-            let b = q.fx - p.fx;
+            let a = -(q.1 - p.1);
+            let b = q.0 - p.0;
             let top_left = a > 0 || (a == 0 && b > 0);
             self.edge_a[i] = a;
             self.edge_b[i] = b;
-            self.edge_c[i] = -(a * p.fx + b * p.fy) - i64::from(!top_left);
+            self.edge_c[i] = -(a * p.0 + b * p.1) - i64::from(!top_left);
         }
-        (self.x0, self.x1) = row_range([v[0].fx, v[1].fx, v[2].fx]);
-        (self.y0, self.y1) = row_range([v[0].fy, v[1].fy, v[2].fy]);
+        (self.x0, self.x1) = row_range([f[0].0, f[1].0, f[2].0]);
+        (self.y0, self.y1) = row_range([f[0].1, f[1].1, f[2].1]);
         // Plane gradients: A = A0 + gx (x - x0) + gy (y - y0) through the three vertices.
-        let (dx1, dy1) = (v[1].x - v[0].x, v[1].y - v[0].y);
-        let (dx2, dy2) = (v[2].x - v[0].x, v[2].y - v[0].y);
+        let xy = f.map(|(x, y)| (x as f64 * INV_ONE, y as f64 * INV_ONE));
+        let (dx1, dy1) = (xy[1].0 - xy[0].0, xy[1].1 - xy[0].1);
+        let (dx2, dy2) = (xy[2].0 - xy[0].0, xy[2].1 - xy[0].1);
         let inv_area = (SUBPIXEL_ONE * SUBPIXEL_ONE) as f64 / area as f64;
         let plane = |a0: f64, a1: f64, a2: f64| {
             let (d1, d2) = (a1 - a0, a2 - a0);
@@ -214,21 +278,18 @@ impl RasterTri {
                 (d2 * dx1 - d1 * dx2) * inv_area,
             ]
         };
+        let [a0, a1, a2] = attrs;
         for k in 0..n {
-            let [a, gx, gy] = plane(
-                v[0].attrs[k] as f64,
-                v[1].attrs[k] as f64,
-                v[2].attrs[k] as f64,
-            );
+            let [a, gx, gy] = plane(a0[k] as f64, a1[k] as f64, a2[k] as f64);
             self.attr0[k] = a as f32;
             self.attr_dx[k] = gx as f32;
             self.attr_dy[k] = gy as f32;
         }
-        self.origin = (v[0].x, v[0].y);
-        self.depth = plane(v[0].depth, v[1].depth, v[2].depth);
+        self.origin = xy[0];
+        self.depth = plane(p[0].depth, p[1].depth, p[2].depth);
         // 1/w only matters to attributes.
         self.inv_w = if perspective && n > 0 {
-            plane(v[0].inv_w, v[1].inv_w, v[2].inv_w)
+            plane(p[0].inv_w, p[1].inv_w, p[2].inv_w)
         } else {
             [1.0, 0.0, 0.0]
         };

@@ -164,11 +164,11 @@ struct FitTri {
 }
 
 impl FitTri {
-    fn new(screen: &[ScreenVertex; 3], perspective: bool) -> FitTri {
+    fn new(screen: [&ScreenVertex; 3], perspective: bool) -> FitTri {
         let mut order = [0, 1, 2];
         order.sort_by_key(|&i| (screen[i].fy, screen[i].fx));
         FitTri {
-            v: order.map(|i| screen[i]),
+            v: order.map(|i| *screen[i]),
             perspective,
         }
     }
@@ -302,8 +302,8 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
     }
     fn triangle(
         &self,
-        _: &[VertexIn; 3],
-        screen: &[ScreenVertex; 3],
+        _: [&VertexIn; 3],
+        screen: [&ScreenVertex; 3],
         perspective: bool,
     ) -> FastTri {
         // The area first: most triangles of a dense mesh stop here, before any set-up.

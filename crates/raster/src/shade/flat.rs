@@ -37,18 +37,18 @@ impl<const FX: u32> Mode for Flat<'_, FX> {
     fn vertex(&self, _: &VertexIn) -> Attrs {
         [0.0; MAX_ATTRS]
     }
-    fn triangle(&self, src: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) -> Vec3 {
-        let (centroid, n) = facet(src);
+    fn triangle(&self, src: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) -> Vec3 {
+        let (centroid, n) = facet(src.map(|v| v.world));
         shade::<FX>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
     }
     const BATCH_TRIANGLES: bool = true;
     fn triangle4(
         &self,
-        src: [&[VertexIn; 3]; 4],
-        _: [&[ScreenVertex; 3]; 4],
+        src: [[&VertexIn; 3]; 4],
+        _: [[&ScreenVertex; 3]; 4],
         _: bool,
     ) -> [Vec3; 4] {
-        let f = src.map(facet);
+        let f = src.map(|v| facet(v.map(|v| v.world)));
         // Bit for bit `triangle` in every lane.
         shade_x4::<FX>(
             self.lit.set,
@@ -65,8 +65,7 @@ impl<const FX: u32> Mode for Flat<'_, FX> {
 }
 
 /// The centroid and the unit face normal (zero when degenerate) of a triangle.
-fn facet(src: &[VertexIn; 3]) -> (Vec3, Vec3) {
-    let [a, b, c] = src.map(|v| v.world);
+fn facet([a, b, c]: [Vec3; 3]) -> (Vec3, Vec3) {
     // Counter-clockwise is front, so the cross product points outwards.
     let n = safe_normalize((b - a).cross(c - a), Vec3::ZERO);
     ((a + b + c) / 3.0, n)
@@ -85,7 +84,8 @@ impl Mode for FillOnly {
     fn vertex(&self, _: &VertexIn) -> Attrs {
         [0.0; MAX_ATTRS]
     }
-    fn triangle(&self, _: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) -> Vec3 {
+    const READS_VERTICES: bool = false;
+    fn triangle(&self, _: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) -> Vec3 {
         self.color
     }
     fn draw(&self, t: &RasterTri, tri: &Vec3, target: &mut BandTarget) -> u64 {

@@ -58,10 +58,14 @@ pub trait Mode: Sync {
     /// `perspective`) cut from mesh triangle `src`.
     fn triangle(
         &self,
-        src: &[VertexIn; 3],
-        screen: &[ScreenVertex; 3],
+        src: [&VertexIn; 3],
+        screen: [&ScreenVertex; 3],
         perspective: bool,
     ) -> Self::Tri;
+    /// Whether [`Mode::triangle`] reads its vertices. When false the renderer hands it
+    /// placeholders instead of fetching them (a dense mesh's vertices are scattered in
+    /// memory, and the fetch is most of the cost of accepting a triangle).
+    const READS_VERTICES: bool = true;
     /// Whether the renderer gathers triangles to call [`Mode::triangle4`] (modes whose
     /// per-triangle data costs a lighting evaluation); others get [`Mode::triangle`] directly.
     const BATCH_TRIANGLES: bool = false;
@@ -69,8 +73,8 @@ pub trait Mode: Sync {
     /// time).
     fn triangle4(
         &self,
-        src: [&[VertexIn; 3]; 4],
-        screen: [&[ScreenVertex; 3]; 4],
+        src: [[&VertexIn; 3]; 4],
+        screen: [[&ScreenVertex; 3]; 4],
         perspective: bool,
     ) -> [Self::Tri; 4] {
         std::array::from_fn(|k| self.triangle(src[k], screen[k], perspective))

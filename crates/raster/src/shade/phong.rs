@@ -76,7 +76,8 @@ impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
-    fn triangle(&self, _: &[VertexIn; 3], _: &[ScreenVertex; 3], _: bool) {}
+    const READS_VERTICES: bool = false;
+    fn triangle(&self, _: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) {}
     fn draw(&self, t: &RasterTri, tri: &(), target: &mut BandTarget) -> u64 {
         traverse(t, self, tri, target)
     }
