@@ -12,7 +12,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rayon::prelude::*;
 
 use crate::framebuffer::{Framebuffer, fill_rows};
-use crate::scanline::{BandTarget, Pass, depth_only};
+use crate::scanline::{BandTarget, Pass, Planes, depth_only, shade_by_pixel};
 use crate::setup::{RasterTri, ScreenPos, ScreenVertex};
 use crate::shade::Mode;
 
@@ -203,6 +203,23 @@ pub fn map_indices<T: Send>(
     }
 }
 
+/// A thread's buffers for two-pass bands, reused from band to band.
+struct Scratch {
+    /// The nearest triangle's id per band pixel.
+    ids: Vec<u64>,
+    /// Per record of the band: whether it was nearest anywhere when drawn.
+    wrote: Vec<bool>,
+    /// Per row of the band: the columns the depth pass wrote.
+    extents: Vec<(u32, u32)>,
+    /// Per record: its index in `planes` (by-pixel shading).
+    slot: Vec<u32>,
+    /// Attribute planes of the records that were nearest somewhere.
+    planes: Vec<Planes>,
+}
+
+/// How many records ahead the band loops touch vertex data (see `touch` in [`draw_bands`]).
+const AHEAD: usize = 4;
+
 /// Ids of the depth pass: a fresh epoch per band job in the high bits, so ids left in a
 /// thread's scratch by earlier jobs never match.
 static EPOCH: AtomicU64 = AtomicU64::new(1);
@@ -210,7 +227,15 @@ static EPOCH: AtomicU64 = AtomicU64::new(1);
 thread_local! {
     /// Per-thread scratch of the depth pass: the nearest triangle's id per band pixel, and
     /// per record whether it was nearest anywhere when drawn.
-    static SCRATCH: RefCell<(Vec<u64>, Vec<bool>)> = const { RefCell::new((Vec::new(), Vec::new())) };
+    static SCRATCH: RefCell<Scratch> = const {
+        RefCell::new(Scratch {
+            ids: Vec::new(),
+            wrote: Vec::new(),
+            extents: Vec::new(),
+            slot: Vec::new(),
+            planes: Vec::new(),
+        })
+    };
 }
 
 /// Draws the binned triangles `chunks` (in submission order, chunk after chunk) with `mode`
@@ -263,6 +288,23 @@ pub fn draw_bands<M: Mode>(
         }
         t.set(p, a, n, perspective)
     };
+    // Reads the first vertex data set-up will need of a record `AHEAD` places on, so that
+    // the cache misses of fetching it (vertices are scattered over the mesh) overlap the
+    // work on the records before it: a prefetch in safe code. The value is folded into a
+    // sink so that the loads are kept.
+    let touch = |r: Option<&TriRec>, n: usize| -> u32 {
+        let Some(r) = r else { return 0 };
+        let mut sink = 0u32;
+        for &i in &r.v {
+            if i & EXTRA_VERTEX == 0 {
+                sink ^= pos.get(i as usize).map_or(0, |p| p.fx as u32);
+                if n > 0 {
+                    sink ^= attrs.get(i as usize * M::ATTRS).map_or(0, |a| a.to_bits());
+                }
+            }
+        }
+        sink
+    };
     let chunk = (BAND_ROWS * width) as usize;
     let clear = fb.pending_clear.take();
     let (color, depth) = (&mut fb.color, &mut fb.depth);
@@ -277,9 +319,11 @@ pub fn draw_bands<M: Mode>(
         let mut t = RasterTri::empty();
         let mut target = BandTarget::new(color, depth, width, y0, count);
         if !M::EARLY_Z || count || in_band < 2 {
-            let mut shaded = 0;
+            let (mut shaded, mut sink) = (0, 0);
             for c in chunks {
-                for r in c.band(b) {
+                let recs = c.band(b);
+                for (i, r) in recs.iter().enumerate() {
+                    sink ^= touch(recs.get(i + AHEAD), n);
                     if let Some(tri) = c.tris.get(r.tri as usize) {
                         if setup(&mut t, c, r, n) {
                             shaded += mode.draw(&t, tri, &mut target);
@@ -287,27 +331,78 @@ pub fn draw_bands<M: Mode>(
                     }
                 }
             }
+            std::hint::black_box(sink);
             return shaded;
         }
         let BandTarget { color, depth, .. } = target;
         SCRATCH.with(|scratch| {
             let mut scratch = scratch.borrow_mut();
-            let (ids, wrote) = &mut *scratch;
+            let Scratch {
+                ids,
+                wrote,
+                extents,
+                slot,
+                planes,
+            } = &mut *scratch;
             if ids.len() < color.len() {
                 ids.resize(color.len(), 0);
             }
+            extents.clear();
+            extents.resize(color.len() / width.max(1) as usize, (u32::MAX, 0));
             let mut target = BandTarget::new(color, depth, width, y0, count);
             let epoch = EPOCH.fetch_add(1, Ordering::Relaxed) << 32;
             let mut seq = epoch;
             // Depth only: set-up without attributes (same edges and depth plane), and a note of
             // the triangles that were nearest somewhere when drawn (only they can be visible).
             wrote.clear();
+            let mut sink = 0;
             for c in chunks {
-                for r in c.band(b) {
-                    wrote.push(setup(&mut t, c, r, 0) && depth_only(&t, &mut target, ids, seq) > 0);
+                let recs = c.band(b);
+                for (i, r) in recs.iter().enumerate() {
+                    sink ^= touch(recs.get(i + AHEAD), 0);
+                    wrote.push(
+                        setup(&mut t, c, r, 0)
+                            && depth_only(&t, &mut target, ids, extents, seq) > 0,
+                    );
                     seq += 1;
                 }
             }
+            if M::BY_PIXEL {
+                // Planes of the triangles that can be visible, then every pixel from its id.
+                (slot.clear(), planes.clear());
+                let mut k = 0;
+                for c in chunks {
+                    let recs = c.band(b);
+                    for (i, r) in recs.iter().enumerate() {
+                        if wrote.get(k + AHEAD) == Some(&true) {
+                            sink ^= touch(recs.get(i + AHEAD), n);
+                        }
+                        let visible = wrote.get(k) == Some(&true) && setup(&mut t, c, r, n);
+                        slot.push(if visible {
+                            planes.len() as u32
+                        } else {
+                            u32::MAX
+                        });
+                        if visible {
+                            planes.push(Planes::of(&t));
+                        }
+                        k += 1;
+                    }
+                }
+                std::hint::black_box(sink);
+                let BandTarget { color, .. } = target;
+                return shade_by_pixel(
+                    (slot, planes),
+                    ids,
+                    epoch,
+                    extents,
+                    color,
+                    (width, y0),
+                    (n, perspective && n > 0),
+                    |a, count| mode.shade4(a, count),
+                );
+            }
+            std::hint::black_box(sink);
             target.ids = ids;
             let (mut shaded, mut seq) = (0, epoch);
             for c in chunks {

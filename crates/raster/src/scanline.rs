@@ -278,14 +278,22 @@ pub fn traverse<K: Kernel>(
 }
 
 /// The depth pass: depth test and write, and `ids[pixel] = id` where this triangle is now the
-/// nearest. Returns the pixels written.
-pub fn depth_only(t: &RasterTri, target: &mut BandTarget, ids: &mut [u64], id: u64) -> u64 {
+/// nearest. `extents[row]` (rows of the band) is widened to the columns `[lo, hi)` written.
+/// Returns the pixels written.
+pub fn depth_only(
+    t: &RasterTri,
+    target: &mut BandTarget,
+    ids: &mut [u64],
+    extents: &mut [(u32, u32)],
+    id: u64,
+) -> u64 {
     let mut written = 0;
     let width = target.width as usize;
     let (y0, y1, stored) = (target.y0, target.y1, &mut *target.depth);
     for_each_span(t, target.width, y0, y1, |y, xs, xe| {
         let (ox, oy) = (xs as f64 + 0.5 - t.origin.0, y as f64 + 0.5 - t.origin.1);
         let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
+        let before = written;
         let row = ((y - y0) as usize) * width;
         for idx in row + xs as usize..row + xe as usize {
             if depth_passes(depth, stored[idx]) {
@@ -295,8 +303,185 @@ pub fn depth_only(t: &RasterTri, target: &mut BandTarget, ids: &mut [u64], id: u
             }
             depth += t.depth[1];
         }
+        if written > before {
+            if let Some(e) = extents.get_mut((y - y0) as usize) {
+                *e = (e.0.min(xs as u32), e.1.max(xe as u32));
+            }
+        }
     });
     written
+}
+
+/// The attribute planes of a set-up triangle: what [`shade_by_pixel`] evaluates.
+#[derive(Debug, Clone, Copy)]
+pub struct Planes {
+    /// Plane origin in pixels.
+    pub origin: (f64, f64),
+    /// `1/w` at the origin, `d/dx`, `d/dy`.
+    pub inv_w: [f64; 3],
+    /// Attributes at the origin.
+    pub attr0: Attrs,
+    /// `d attr / dx`.
+    pub attr_dx: Attrs,
+    /// `d attr / dy`.
+    pub attr_dy: Attrs,
+}
+
+impl Planes {
+    /// The planes of `t`.
+    #[inline]
+    #[must_use]
+    pub fn of(t: &RasterTri) -> Planes {
+        Planes {
+            origin: t.origin,
+            inv_w: t.inv_w,
+            attr0: t.attr0,
+            attr_dx: t.attr_dx,
+            attr_dy: t.attr_dy,
+        }
+    }
+}
+
+/// The shading pass of a band from its id buffer alone, for kernels that read nothing but the
+/// interpolated attributes: every pixel whose id (from [`depth_only`], `epoch + k`) names
+/// triangle `k` of the band gets `shade4` of that triangle's `planes[slot[k]]`, four pixels per
+/// call, with no second traversal of the triangles. Along a row, a run of pixels of one
+/// triangle is evaluated once at its first pixel and then stepped by `dA/dx` (the seeds'
+/// incremental form, as in the traversal's spans). Only columns `extents[row]` are read.
+/// Returns the pixels shaded.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one band's buffers and the draw's constants"
+)]
+pub fn shade_by_pixel(
+    (slot, planes): (&[u32], &[Planes]),
+    ids: &[u64],
+    epoch: u64,
+    extents: &[(u32, u32)],
+    color: &mut [Vec3],
+    (width, y0): (u32, i64),
+    (n, perspective): (usize, bool),
+    shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+) -> u64 {
+    if perspective {
+        by_pixel::<true>(
+            (slot, planes),
+            ids,
+            epoch,
+            extents,
+            color,
+            (width, y0),
+            n,
+            shade4,
+        )
+    } else {
+        by_pixel::<false>(
+            (slot, planes),
+            ids,
+            epoch,
+            extents,
+            color,
+            (width, y0),
+            n,
+            shade4,
+        )
+    }
+}
+
+#[allow(clippy::too_many_arguments, reason = "see shade_by_pixel")]
+#[inline(always)]
+fn by_pixel<const PERSPECTIVE: bool>(
+    (slot, planes): (&[u32], &[Planes]),
+    ids: &[u64],
+    epoch: u64,
+    extents: &[(u32, u32)],
+    color: &mut [Vec3],
+    (width, y0): (u32, i64),
+    n: usize,
+    shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+) -> u64 {
+    let width = width as usize;
+    let mut shaded = 0;
+    let mut batch = [[0.0f32; MAX_ATTRS]; 4];
+    let mut at = [0usize; 4];
+    let mut len = 0;
+    let flush = |batch: &mut [Attrs; 4], at: &[usize; 4], len: usize, color: &mut [Vec3]| {
+        for k in len..4 {
+            batch[k] = batch[0];
+        }
+        let c = shade4(batch, len);
+        for k in 0..len {
+            debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
+            if let Some(px) = color.get_mut(at[k]) {
+                *px = clamp_color(c[k]);
+            }
+        }
+    };
+    for (row, &(lo, hi)) in extents.iter().enumerate() {
+        let base = row * width;
+        let (lo, hi) = (lo as usize, (hi as usize).min(width));
+        let Some(row_ids) = ids.get(base + lo..base + hi) else {
+            continue;
+        };
+        let yc = (y0 + row as i64) as f64 + 0.5;
+        // The run being stepped: its id and the next column it would continue at.
+        let (mut run, mut next) = (u64::MAX, usize::MAX);
+        let mut attrs: Attrs = [0.0; MAX_ATTRS];
+        let mut inv_w = 1.0f64;
+        let mut step: (&Attrs, f64) = (&[0.0; MAX_ATTRS], 0.0);
+        for (i, &id) in row_ids.iter().enumerate() {
+            let x = lo + i;
+            let k = id.wrapping_sub(epoch);
+            let Some(p) = (id >= epoch)
+                .then(|| slot.get(k as usize))
+                .flatten()
+                .and_then(|&s| planes.get(s as usize))
+            else {
+                continue;
+            };
+            if id == run && x == next {
+                if PERSPECTIVE {
+                    inv_w += step.1;
+                }
+                for k in 0..n {
+                    attrs[k] += step.0[k];
+                }
+            } else {
+                // A run's first pixel: every plane evaluated once, as at a span start.
+                let (ox, oy) = (x as f64 + 0.5 - p.origin.0, yc - p.origin.1);
+                if PERSPECTIVE {
+                    inv_w = p.inv_w[0] + ox * p.inv_w[1] + oy * p.inv_w[2];
+                }
+                for k in 0..n {
+                    attrs[k] = (p.attr0[k] as f64
+                        + ox * p.attr_dx[k] as f64
+                        + oy * p.attr_dy[k] as f64) as f32;
+                }
+                step = (&p.attr_dx, p.inv_w[1]);
+                run = id;
+            }
+            next = x + 1;
+            let w = if PERSPECTIVE {
+                (1.0 / inv_w) as f32
+            } else {
+                1.0
+            };
+            for k in 0..n {
+                batch[len][k] = attrs[k] * w;
+            }
+            at[len] = base + x;
+            len += 1;
+            shaded += 1;
+            if len == 4 {
+                flush(&mut batch, &at, len, color);
+                len = 0;
+            }
+        }
+    }
+    if len > 0 {
+        flush(&mut batch, &at, len, color);
+    }
+    shaded
 }
 
 fn traverse_impl<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(

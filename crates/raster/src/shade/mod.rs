@@ -81,6 +81,17 @@ pub trait Mode: Sync {
     }
     /// Draws the triangle's pixels inside `target`; returns the pixels shaded.
     fn draw(&self, t: &RasterTri, tri: &Self::Tri, target: &mut BandTarget) -> u64;
+    /// Whether the band's shading pass runs from the depth pass's id buffer alone
+    /// ([`crate::scanline::shade_by_pixel`] with [`Mode::shade4`]) instead of traversing the
+    /// visible triangles again: for `EARLY_Z` modes whose pixels depend on nothing but the
+    /// interpolated attributes.
+    const BY_PIXEL: bool = false;
+    /// The colours of the first `count` of four pixels with attributes `attrs` (lanes past
+    /// `count` repeat lane 0); called only when [`Mode::BY_PIXEL`].
+    fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
+        let _ = (attrs, count);
+        [Vec3::ZERO; 4]
+    }
     /// Called after a band's last triangle: shades pixels still waiting in
     /// `target.pending` (kernels shading four pixels across triangles).
     fn finish(&self, target: &mut BandTarget) {

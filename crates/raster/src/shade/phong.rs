@@ -84,4 +84,9 @@ impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
     fn finish(&self, target: &mut BandTarget) {
         target.pending.flush(self, &(), target.color);
     }
+    const BY_PIXEL: bool = true;
+    #[inline]
+    fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
+        self.shade_lanes(&(), attrs, count)
+    }
 }
