@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::scanline::{BandTarget, Kernel, traverse};
+use crate::scanline::{BandTarget, Kernel, Planes, depth_only, shade_by_pixel, traverse};
 use crate::setup::{RasterTri, ScreenVertex};
 
 struct Record;
@@ -22,6 +22,10 @@ impl Kernel for Record {
 }
 
 fn vertex(x: f64, y: f64, i: f32) -> ScreenVertex {
+    vertex_at_depth(x, y, i, 0.5)
+}
+
+fn vertex_at_depth(x: f64, y: f64, i: f32, depth: f64) -> ScreenVertex {
     let mut attrs = [0.0; MAX_ATTRS];
     attrs[0] = i;
     let (fx, fy) = ((x * 256.0).round() as i64, (y * 256.0).round() as i64);
@@ -30,7 +34,7 @@ fn vertex(x: f64, y: f64, i: f32) -> ScreenVertex {
         fy,
         x: fx as f64 / 256.0,
         y: fy as f64 / 256.0,
-        depth: 0.5,
+        depth,
         inv_w: 1.0,
         rhw: 1.0,
         attrs,
@@ -90,5 +94,69 @@ fn scanline_increments_reproduce_the_seeds_closed_form_i4_i5_ip() {
             }
         }
         assert_eq!(checked, n);
+    }
+}
+
+#[test]
+fn by_pixel_shading_reproduces_the_closed_form_of_the_nearest_triangle() {
+    // Two crossing triangles at different tilts in depth: each pixel of the depth pass's id
+    // buffer is shaded from the planes of the triangle it names, runs restarting where the
+    // nearest triangle changes along a row. Every shaded pixel must carry the closed form of
+    // its own triangle, and the count must be the pixels the depth pass left to each.
+    let (w, h) = (48u32, 32u32);
+    let tris = [
+        [
+            (2.0, 1.0, 0.2, 0.2),
+            (45.0, 9.25, 0.9, 0.8),
+            (10.0, 30.5, 0.5, 0.5),
+        ],
+        [
+            (40.5, 2.5, 1.0, 0.9),
+            (4.25, 18.0, 0.0, 0.1),
+            (38.0, 29.75, 0.4, 0.3),
+        ],
+    ];
+    let verts = tris.map(|t| t.map(|(x, y, i, d)| vertex_at_depth(x, y, i as f32, d)));
+    let snapped = verts.map(|v| v.map(|v| (v.x, v.y, v.attrs[0] as f64)));
+    let raster = verts.map(|v| RasterTri::new([&v[0], &v[1], &v[2]], 1, false).unwrap());
+    let mut color = vec![Vec3::splat(-1.0); (w * h) as usize];
+    let mut depth = vec![1.0; (w * h) as usize];
+    let mut ids = vec![0u64; (w * h) as usize];
+    let mut extents = vec![(u32::MAX, 0u32); h as usize];
+    let epoch = 1u64 << 32;
+    let mut target = BandTarget::new(&mut color, &mut depth, w, 0, false);
+    for (k, t) in raster.iter().enumerate() {
+        assert!(depth_only(t, &mut target, &mut ids, &mut extents, epoch + k as u64) > 0);
+    }
+    let planes = raster.map(|t| Planes::of(&t));
+    let n = shade_by_pixel(
+        (&[0, 1], &planes),
+        &ids,
+        epoch,
+        &extents,
+        &mut color,
+        (w, 0),
+        (1, false),
+        |a, _| a.map(|a| Vec3::splat(a[0])),
+    );
+    let owned: Vec<usize> = (0..2)
+        .map(|k| ids.iter().filter(|&&id| id == epoch + k as u64).count())
+        .collect();
+    assert!(owned[0] > 50 && owned[1] > 50, "both visible: {owned:?}");
+    assert_eq!(n as usize, owned[0] + owned[1]);
+    for y in 0..h {
+        for x in 0..w {
+            let idx = (y * w + x) as usize;
+            let c = color[idx].x;
+            let Some(k) = ids[idx].checked_sub(epoch) else {
+                assert_eq!(c, -1.0, "({x}, {y}) shaded without a triangle");
+                continue;
+            };
+            let expected = closed_form(&snapped[k as usize], x as f64 + 0.5, y as f64 + 0.5);
+            assert!(
+                (c as f64 - expected).abs() < 1e-5,
+                "({x}, {y}) of triangle {k}: {c} vs {expected}"
+            );
+        }
     }
 }
