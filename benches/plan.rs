@@ -92,7 +92,7 @@ fn plan_cost(c: &mut Criterion) {
     let camera = scene.camera();
     let opts = FrameOptions::default();
     g.bench_function("plan", |b| {
-        b.iter(|| black_box(plan_frame(&scene, &camera, 16.0 / 9.0, &opts)))
+        b.iter(|| black_box(plan_frame(&scene, &camera, (1280, 720), &opts)))
     });
     let mut fb = Framebuffer::new(1280, 720).unwrap();
     g.bench_function("frame_1280x720", |b| {

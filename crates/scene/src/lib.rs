@@ -66,7 +66,10 @@ pub use components::{
 pub use error::SceneError;
 pub use file::load::{Disk, Files, load_scene, parse_scene};
 pub use file::save::{save_scene, scene_to_toml};
-pub use plan::{AUTO_TOLERANCE, AutoInput, FrameOptions, FramePlan, PlannedObject, plan_frame};
+pub use plan::{
+    AUTO_TOLERANCE, AutoInput, FAST_PHONG_MIN_PIXELS, FrameOptions, FramePlan, PlannedObject,
+    pixels_per_triangle, plan_frame,
+};
 pub use render::{FrameReport, draw_items, raster_options, render_frame};
 
 /// Largest accepted image side, in pixels.

@@ -39,6 +39,39 @@ use crate::components::{
 /// `auto` accepts a cheaper mode when its estimated error is at most this (one 8-bit code).
 pub const AUTO_TOLERANCE: f32 = 1.0 / 255.0;
 
+/// `auto` picks `fast-phong` over `phong` only where an object's triangles cover at least this
+/// many pixels each on average (estimated, [`pixels_per_triangle`]): below it the per-triangle
+/// fit costs more than the per-pixel lighting it saves. Measured on S1's sphere at 1920x1080
+/// (`phosphor bench` on spheres of 32 to 256 segments): fast Phong is faster at about 500
+/// estimated pixels per triangle and more, slower at about 200 and less, on one and two threads.
+pub const FAST_PHONG_MIN_PIXELS: f32 = 300.0;
+
+/// Estimated screen pixels per front-facing triangle of an object with bounding sphere
+/// (`center`, `radius`) and `triangles` triangles, seen from `eye` with vertical field of view
+/// `fov_y_deg` in a `width` x `height` viewport: the area of the sphere's projected disc (at
+/// most the viewport) over half the triangles (a closed mesh shows about half of them).
+#[must_use]
+pub fn pixels_per_triangle(
+    (center, radius): (Vec3, f32),
+    eye: Vec3,
+    fov_y_deg: f32,
+    (width, height): (u32, u32),
+    triangles: usize,
+) -> f32 {
+    let viewport = width as f32 * height as f32;
+    let d = center.distance(eye);
+    let tan_half = (fov_y_deg.to_radians() * 0.5).tan();
+    let area = if d > radius && tan_half > 0.0 {
+        // Angular radius asin(r/d), projected: tan = r / sqrt(d^2 - r^2).
+        let r_px = radius / (d * d - radius * radius).sqrt() / tan_half * height as f32 * 0.5;
+        (std::f32::consts::PI * r_px * r_px).min(viewport)
+    } else {
+        viewport
+    };
+    let px = area / (triangles as f32 * 0.5).max(1.0);
+    if px.is_finite() { px } else { 0.0 }
+}
+
 /// Frame-wide choices that override the scene (command-line flags, viewer keys).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameOptions {
@@ -357,6 +390,8 @@ pub struct AutoInput<'a> {
     pub eye: Vec3,
     /// Whether a bump map applies.
     pub bumped: bool,
+    /// Estimated screen pixels per front-facing triangle ([`pixels_per_triangle`]).
+    pub pixels_per_triangle: f32,
 }
 
 /// `auto`: the cheapest mode that is good enough, with the reason.
@@ -370,7 +405,9 @@ pub struct AutoInput<'a> {
 ///   normal angle is less than the normals' spread within a typical triangle, the 90th
 ///   percentile), and for bump maps.
 /// - `fast-phong` otherwise: the highlights span several triangles, where the Taylor
-///   expansion holds (and its per-triangle fallback guards the rest).
+///   expansion holds (and its per-triangle fallback guards the rest), provided the triangles
+///   are large enough on screen for its fit to pay ([`FAST_PHONG_MIN_PIXELS`]); `phong`
+///   where they are not.
 #[must_use]
 pub fn choose_mode(o: &AutoInput<'_>) -> (ShadingMode, String) {
     let AutoInput {
@@ -420,14 +457,29 @@ pub fn choose_mode(o: &AutoInput<'_>) -> (ShadingMode, String) {
             ),
         );
     }
+    // Fast Phong only pays on triangles large on screen; elsewhere Phong is both exact and
+    // faster.
+    let px = o.pixels_per_triangle;
+    let per_pixel = |why: String| {
+        if px >= FAST_PHONG_MIN_PIXELS {
+            (
+                ShadingMode::FastPhong,
+                format!("{why}; triangles large on screen (est. {px:.0} px each)"),
+            )
+        } else {
+            (
+                ShadingMode::Phong,
+                format!(
+                    "{why}; triangles too small on screen for fast Phong to pay (est. {px:.0} < {FAST_PHONG_MIN_PIXELS:.0} px each)"
+                ),
+            )
+        }
+    };
     if !effects.contains(Effects::SPECULAR) {
-        return (
-            ShadingMode::FastPhong,
-            format!(
-                "no specular term but coarse for its lights (est. gouraud error {:.4} > 1/255)",
-                fig.gouraud_error
-            ),
-        );
+        return per_pixel(format!(
+            "no specular term but coarse for its lights (est. gouraud error {:.4} > 1/255)",
+            fig.gouraud_error
+        ));
     }
     // Half-width of the highlight at half intensity, in the angle of the normal: (R.V)^n
     // turns twice as fast as N; (N.H)^n as fast as N.
@@ -446,20 +498,23 @@ pub fn choose_mode(o: &AutoInput<'_>) -> (ShadingMode, String) {
             ),
         )
     } else {
-        (
-            ShadingMode::FastPhong,
-            format!(
-                "highlight (half-width {:.1} deg) spans triangles (normal spread {:.1} deg)",
-                half_width.to_degrees(),
-                info.typical_normal_spread.to_degrees()
-            ),
-        )
+        per_pixel(format!(
+            "highlight (half-width {:.1} deg) spans triangles (normal spread {:.1} deg)",
+            half_width.to_degrees(),
+            info.typical_normal_spread.to_degrees()
+        ))
     }
 }
 
-/// Builds the plan of one frame seen by `camera` at `aspect` (width / height).
+/// Builds the plan of one frame seen by `camera` in a `viewport` of width x height pixels.
 #[must_use]
-pub fn plan_frame(scene: &Scene, camera: &Camera, aspect: f32, opts: &FrameOptions) -> FramePlan {
+pub fn plan_frame(
+    scene: &Scene,
+    camera: &Camera,
+    viewport: (u32, u32),
+    opts: &FrameOptions,
+) -> FramePlan {
+    let aspect = viewport.0.max(1) as f32 / viewport.1.max(1) as f32;
     let lights = scene.lights();
     let planes = frustum_planes(camera.view_proj(aspect));
     let mut plan = FramePlan {
@@ -551,6 +606,13 @@ pub fn plan_frame(scene: &Scene, camera: &Camera, aspect: f32, opts: &FrameOptio
                 scale,
                 eye: camera.eye,
                 bumped,
+                pixels_per_triangle: pixels_per_triangle(
+                    (sphere.center, sphere.radius),
+                    camera.eye,
+                    camera.fov_y_deg,
+                    viewport,
+                    mesh.mesh.indices.len(),
+                ),
             }),
         };
         let per_pixel = matches!(

@@ -64,8 +64,7 @@ pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
 pub fn render_frame(scene: &Scene, fb: &mut Framebuffer, opts: &FrameOptions) -> FrameReport {
     let start = Instant::now();
     let camera = scene.camera();
-    let aspect = fb.width() as f32 / fb.height() as f32;
-    let plan = plan_frame(scene, &camera, aspect, opts);
+    let plan = plan_frame(scene, &camera, (fb.width(), fb.height()), opts);
     let plan_time = start.elapsed();
     let start = Instant::now();
     let stats = phosphor_raster::render(

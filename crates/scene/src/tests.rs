@@ -375,7 +375,12 @@ fn objects_outside_the_frustum_are_culled() {
         "t.toml",
     )
     .unwrap();
-    let plan = plan_frame(&scene, &scene.camera(), 4.0 / 3.0, &FrameOptions::default());
+    let plan = plan_frame(
+        &scene,
+        &scene.camera(),
+        (640, 480),
+        &FrameOptions::default(),
+    );
     assert_eq!(plan.objects.len(), 1);
     assert_eq!(
         plan.culled,
@@ -385,7 +390,12 @@ fn objects_outside_the_frustum_are_culled() {
 
 fn auto_mode(body: &str) -> (ShadingMode, String) {
     let scene = Scene::parse(&format!("{BASE}{body}"), "t.toml").unwrap();
-    let plan = plan_frame(&scene, &scene.camera(), 4.0 / 3.0, &FrameOptions::default());
+    let plan = plan_frame(
+        &scene,
+        &scene.camera(),
+        (640, 480),
+        &FrameOptions::default(),
+    );
     (plan.objects[0].mode, plan.objects[0].reason.clone())
 }
 
@@ -413,9 +423,16 @@ fn auto_follows_the_seeds_conditions() {
         "{sun}[materials.m]\nks = 1\nshininess = 500\n[[objects]]\nprimitive = {{ shape = \"sphere\", segments = 12, rings = 6 }}\nmaterial = \"m\"\n"
     ));
     assert_eq!(m, ShadingMode::Phong, "{why}");
-    // A fine sphere with a broad highlight: fast Phong.
+    // A fine sphere with a broad highlight: the Taylor expansion would hold, but at 640x480
+    // its 9000 triangles are too small on screen for the fit to pay, so Phong.
     let (m, why) = auto_mode(&format!(
         "{sun}[materials.m]\nks = 0.5\nshininess = 8\n[[objects]]\nprimitive = {{ shape = \"sphere\", segments = 96, rings = 48 }}\nmaterial = \"m\"\n"
+    ));
+    assert_eq!(m, ShadingMode::Phong, "{why}");
+    assert!(why.contains("too small on screen"), "{why}");
+    // A coarse sphere with a highlight broader still: large triangles, fast Phong.
+    let (m, why) = auto_mode(&format!(
+        "{sun}[materials.m]\nks = 0.5\nshininess = 1\n[[objects]]\nprimitive = {{ shape = \"sphere\", segments = 24, rings = 12 }}\nmaterial = \"m\"\n"
     ));
     assert_eq!(m, ShadingMode::FastPhong, "{why}");
     // Bump maps need per-pixel normals.
@@ -428,7 +445,8 @@ fn auto_follows_the_seeds_conditions() {
 #[test]
 fn default_scene_renders_finite_and_varied() {
     let scene = Scene::default_scene().unwrap();
-    let mut fb = Framebuffer::new(160, 90).unwrap();
+    // Large enough for `auto` to find triangles that pay for fast Phong's fit (the crate's).
+    let mut fb = Framebuffer::new(640, 360).unwrap();
     let report = render_frame(&scene, &mut fb, &FrameOptions::default());
     assert!(
         fb.color()
@@ -437,5 +455,47 @@ fn default_scene_renders_finite_and_varied() {
     );
     let modes: std::collections::HashSet<_> = report.plan.objects.iter().map(|o| o.mode).collect();
     assert!(modes.len() >= 2, "{}", report.plan);
-    assert!(report.stats.pixels_shaded > 160 * 90 / 4);
+    assert!(report.stats.pixels_shaded > 640 * 360 / 4);
+}
+
+#[test]
+fn pixels_per_triangle_is_the_projected_disc_over_the_front_half() {
+    // S1's sphere: radius 1 seen from 3 with a 45 degree field of view at 1920x1080 projects to
+    // a disc of radius 540 / (tan 22.5 deg * sqrt 8) = 460.9 px.
+    let r_px = 540.0 / (22.5f32.to_radians().tan() * 8f32.sqrt());
+    let disc = std::f32::consts::PI * r_px * r_px;
+    let px = pixels_per_triangle(
+        (Vec3::ZERO, 1.0),
+        Vec3::new(0.0, 0.0, 3.0),
+        45.0,
+        (1920, 1080),
+        10_000,
+    );
+    assert!(
+        (px - disc / 5000.0).abs() < 1e-3 * px,
+        "{px} vs {}",
+        disc / 5000.0
+    );
+    // Twice as far: a quarter of the pixels (nearly: the disc is the sphere's silhouette).
+    let far = pixels_per_triangle(
+        (Vec3::ZERO, 1.0),
+        Vec3::new(0.0, 0.0, 6.0),
+        45.0,
+        (1920, 1080),
+        10_000,
+    );
+    assert!(far < px * 0.26 && far > px * 0.2, "{far} vs {px}");
+    // Inside the sphere, or with no triangles: the viewport bounds it, and it stays finite.
+    let inside = pixels_per_triangle((Vec3::ZERO, 5.0), Vec3::ZERO, 45.0, (640, 480), 2);
+    assert_eq!(inside, 640.0 * 480.0);
+    for (r, n) in [(f32::NAN, 10), (1.0, 0), (f32::INFINITY, 10)] {
+        let v = pixels_per_triangle(
+            (Vec3::ZERO, r),
+            Vec3::new(0.0, 0.0, 3.0),
+            45.0,
+            (640, 480),
+            n,
+        );
+        assert!(v.is_finite() && v >= 0.0, "{r} {n}: {v}");
+    }
 }
