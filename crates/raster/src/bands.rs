@@ -369,7 +369,8 @@ pub fn draw_bands<M: Mode>(
             }
             if M::BY_PIXEL {
                 // Planes of the triangles that can be visible, then every pixel from its id.
-                (slot.clear(), planes.clear());
+                slot.clear();
+                planes.clear();
                 let mut k = 0;
                 for c in chunks {
                     let recs = c.band(b);
