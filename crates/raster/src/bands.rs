@@ -12,7 +12,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rayon::prelude::*;
 
 use crate::framebuffer::{Framebuffer, fill_rows};
-use crate::scanline::{BandTarget, Pass, Planes, depth_only, shade_by_pixel};
+use crate::scanline::{BandTarget, ByPixel, Pass, Planes, depth_only};
 use crate::setup::{RasterTri, ScreenPos, ScreenVertex};
 use crate::shade::Mode;
 
@@ -392,16 +392,18 @@ pub fn draw_bands<M: Mode>(
                 }
                 std::hint::black_box(sink);
                 let BandTarget { color, .. } = target;
-                return shade_by_pixel(
-                    (slot, planes),
+                let pass = ByPixel {
+                    slot,
+                    planes,
                     ids,
                     epoch,
                     extents,
-                    color,
-                    (width, y0),
-                    (n, perspective && n > 0),
-                    |a, count| mode.shade4(a, count),
-                );
+                    width,
+                    y0,
+                    n,
+                    perspective: perspective && n > 0,
+                };
+                return pass.shade(color, |a, count| mode.shade4(a, count));
             }
             std::hint::black_box(sink);
             target.ids = ids;

@@ -10,7 +10,7 @@ use crate::bands::{
 };
 use crate::clip::{ClipVertex, clip_triangle, guard_band, inside_clip_volume};
 use crate::framebuffer::{Framebuffer, RasterError};
-use crate::setup::{ScreenPos, ScreenVertex, row_range, to_screen};
+use crate::setup::{ScreenPos, ScreenVertex, row_range, screen_area2, to_screen};
 use crate::shade::fast_phong::FastPhong;
 use crate::shade::flat::{FillOnly, Flat};
 use crate::shade::gouraud::Gouraud;
@@ -270,12 +270,11 @@ const NO_SCREEN_VERTEX: ScreenVertex = ScreenVertex {
 /// centres. Returns its rows (not clipped to the image).
 #[inline]
 fn accept(v: [ScreenPos; 3], cull_backfaces: bool) -> Option<(i64, i64)> {
-    let (x, y) = (v.map(|v| i64::from(v.fx)), v.map(|v| i64::from(v.fy)));
-    let area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+    let area = screen_area2(&v);
     if area == 0 || (cull_backfaces && area > 0) {
         return None;
     }
-    let rows = row_range(y);
+    let rows = row_range(v.map(|v| i64::from(v.fy)));
     (rows.0 < rows.1).then_some(rows)
 }
 

@@ -86,13 +86,45 @@ impl Pending {
     /// Shades the waiting pixels with `kernel` and writes their colours.
     #[inline(always)]
     pub fn flush<K: Kernel>(&mut self, kernel: &K, tri: &K::Tri, color: &mut [Vec3]) {
+        self.flush_with(|a, count| kernel.shade_lanes(tri, a, count), color);
+    }
+
+    /// Queues pixel `idx` of the band with the first `n` of `attrs` times `w` (the
+    /// perspective divide), shading the group with `shade` once it holds four.
+    #[inline(always)]
+    fn push(
+        &mut self,
+        idx: usize,
+        (attrs, w, n): (&Attrs, f32, usize),
+        shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
+        color: &mut [Vec3],
+    ) {
+        let slot = &mut self.attrs[self.len];
+        for k in 0..n {
+            slot[k] = attrs[k] * w;
+        }
+        self.idx[self.len] = idx;
+        self.len += 1;
+        if self.len == 4 {
+            self.flush_with(shade, color);
+        }
+    }
+
+    /// Shades the waiting pixels with `shade` (the colours of the first `count` of four
+    /// attribute sets; the others repeat the first) and writes their colours.
+    #[inline(always)]
+    fn flush_with(
+        &mut self,
+        shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
+        color: &mut [Vec3],
+    ) {
         if self.len == 0 {
             return;
         }
         for k in self.len..4 {
             self.attrs[k] = self.attrs[0];
         }
-        let c = kernel.shade_lanes(tri, &self.attrs, self.len);
+        let c = shade(&self.attrs, self.len);
         for k in 0..self.len {
             debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
             color[self.idx[k]] = clamp_color(c[k]);
@@ -312,7 +344,7 @@ pub fn depth_only(
     written
 }
 
-/// The attribute planes of a set-up triangle: what [`shade_by_pixel`] evaluates.
+/// The attribute planes of a set-up triangle: what [`ByPixel`] evaluates.
 #[derive(Debug, Clone, Copy)]
 pub struct Planes {
     /// Plane origin in pixels.
@@ -342,146 +374,115 @@ impl Planes {
     }
 }
 
+/// `1/w` and attributes `0..n` at offset `(ox, oy)` from the planes' origin: each plane
+/// (`inv_w`, and `attr0`, `attr_dx`, `attr_dy` in `a`) evaluated once, as at a span start;
+/// stepping by `dA/dx` then continues along the row.
+#[inline(always)]
+fn planes_at(inv_w: &[f64; 3], a: [&Attrs; 3], (ox, oy): (f64, f64), n: usize) -> (f64, Attrs) {
+    let inv_w = inv_w[0] + ox * inv_w[1] + oy * inv_w[2];
+    let mut attrs: Attrs = [0.0; MAX_ATTRS];
+    for k in 0..n {
+        attrs[k] = (a[0][k] as f64 + ox * a[1][k] as f64 + oy * a[2][k] as f64) as f32;
+    }
+    (inv_w, attrs)
+}
+
 /// The shading pass of a band from its id buffer alone, for kernels that read nothing but the
 /// interpolated attributes: every pixel whose id (from [`depth_only`], `epoch + k`) names
-/// triangle `k` of the band gets `shade4` of that triangle's `planes[slot[k]]`, four pixels per
+/// record `k` of the band gets the colour of that triangle's `planes[slot[k]]`, four pixels per
 /// call, with no second traversal of the triangles. Along a row, a run of pixels of one
 /// triangle is evaluated once at its first pixel and then stepped by `dA/dx` (the seeds'
 /// incremental form, as in the traversal's spans). Only columns `extents[row]` are read.
-/// Returns the pixels shaded.
-#[allow(
-    clippy::too_many_arguments,
-    reason = "one band's buffers and the draw's constants"
-)]
-pub fn shade_by_pixel(
-    (slot, planes): (&[u32], &[Planes]),
-    ids: &[u64],
-    epoch: u64,
-    extents: &[(u32, u32)],
-    color: &mut [Vec3],
-    (width, y0): (u32, i64),
-    (n, perspective): (usize, bool),
-    shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
-) -> u64 {
-    if perspective {
-        by_pixel::<true>(
-            (slot, planes),
-            ids,
-            epoch,
-            extents,
-            color,
-            (width, y0),
-            n,
-            shade4,
-        )
-    } else {
-        by_pixel::<false>(
-            (slot, planes),
-            ids,
-            epoch,
-            extents,
-            color,
-            (width, y0),
-            n,
-            shade4,
-        )
-    }
+#[derive(Debug, Clone, Copy)]
+pub struct ByPixel<'a> {
+    /// Per record of the band: its index in `planes`, or `u32::MAX` when it has none.
+    pub slot: &'a [u32],
+    /// Attribute planes of the records that can be visible.
+    pub planes: &'a [Planes],
+    /// The nearest record's id per band pixel.
+    pub ids: &'a [u64],
+    /// The id of the band's record 0.
+    pub epoch: u64,
+    /// Per row of the band: the columns `[lo, hi)` the depth pass wrote.
+    pub extents: &'a [(u32, u32)],
+    /// Image width.
+    pub width: u32,
+    /// First row of the band.
+    pub y0: i64,
+    /// Attributes in use.
+    pub n: usize,
+    /// Whether attributes are divided by `w`.
+    pub perspective: bool,
 }
 
-#[allow(clippy::too_many_arguments, reason = "see shade_by_pixel")]
-#[inline(always)]
-fn by_pixel<const PERSPECTIVE: bool>(
-    (slot, planes): (&[u32], &[Planes]),
-    ids: &[u64],
-    epoch: u64,
-    extents: &[(u32, u32)],
-    color: &mut [Vec3],
-    (width, y0): (u32, i64),
-    n: usize,
-    shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
-) -> u64 {
-    let width = width as usize;
-    let mut shaded = 0;
-    let mut batch = [[0.0f32; MAX_ATTRS]; 4];
-    let mut at = [0usize; 4];
-    let mut len = 0;
-    let flush = |batch: &mut [Attrs; 4], at: &[usize; 4], len: usize, color: &mut [Vec3]| {
-        for k in len..4 {
-            batch[k] = batch[0];
+impl ByPixel<'_> {
+    /// Shades the band's pixels into `color` with `shade4` (the colours of the first `count` of
+    /// four attribute sets); returns the pixels shaded.
+    pub fn shade(
+        &self,
+        color: &mut [Vec3],
+        shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+    ) -> u64 {
+        if self.perspective {
+            self.run::<true>(color, shade4)
+        } else {
+            self.run::<false>(color, shade4)
         }
-        let c = shade4(batch, len);
-        for k in 0..len {
-            debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
-            if let Some(px) = color.get_mut(at[k]) {
-                *px = clamp_color(c[k]);
-            }
-        }
-    };
-    for (row, &(lo, hi)) in extents.iter().enumerate() {
-        let base = row * width;
-        let (lo, hi) = (lo as usize, (hi as usize).min(width));
-        let Some(row_ids) = ids.get(base + lo..base + hi) else {
-            continue;
-        };
-        let yc = (y0 + row as i64) as f64 + 0.5;
-        // The run being stepped: its id and the next column it would continue at.
-        let (mut run, mut next) = (u64::MAX, usize::MAX);
-        let mut attrs: Attrs = [0.0; MAX_ATTRS];
-        let mut inv_w = 1.0f64;
-        let mut step: (&Attrs, f64) = (&[0.0; MAX_ATTRS], 0.0);
-        for (i, &id) in row_ids.iter().enumerate() {
-            let x = lo + i;
-            let k = id.wrapping_sub(epoch);
-            let Some(p) = (id >= epoch)
-                .then(|| slot.get(k as usize))
-                .flatten()
-                .and_then(|&s| planes.get(s as usize))
-            else {
+    }
+
+    #[inline(always)]
+    fn run<const PERSPECTIVE: bool>(
+        &self,
+        color: &mut [Vec3],
+        shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+    ) -> u64 {
+        let (width, n) = (self.width as usize, self.n);
+        let mut shaded = 0;
+        let mut pending = Pending::new();
+        for (row, &(lo, hi)) in self.extents.iter().enumerate() {
+            let base = row * width;
+            let (lo, hi) = (lo as usize, (hi as usize).min(width));
+            let Some(row_ids) = self.ids.get(base + lo..base + hi) else {
                 continue;
             };
-            if id == run && x == next {
-                if PERSPECTIVE {
-                    inv_w += step.1;
+            let yc = (self.y0 + row as i64) as f64 + 0.5;
+            // The run being stepped: its id and the next column it would continue at.
+            let (mut run, mut next) = (u64::MAX, usize::MAX);
+            let (mut inv_w, mut attrs) = (1.0f64, [0.0f32; MAX_ATTRS]);
+            for (i, &id) in row_ids.iter().enumerate() {
+                let x = lo + i;
+                let Some(p) = (id >= self.epoch)
+                    .then(|| self.slot.get((id - self.epoch) as usize))
+                    .flatten()
+                    .and_then(|&s| self.planes.get(s as usize))
+                else {
+                    continue;
+                };
+                if id == run && x == next {
+                    if PERSPECTIVE {
+                        inv_w += p.inv_w[1];
+                    }
+                    for k in 0..n {
+                        attrs[k] += p.attr_dx[k];
+                    }
+                } else {
+                    let o = (x as f64 + 0.5 - p.origin.0, yc - p.origin.1);
+                    (inv_w, attrs) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, n);
+                    run = id;
                 }
-                for k in 0..n {
-                    attrs[k] += step.0[k];
-                }
-            } else {
-                // A run's first pixel: every plane evaluated once, as at a span start.
-                let (ox, oy) = (x as f64 + 0.5 - p.origin.0, yc - p.origin.1);
-                if PERSPECTIVE {
-                    inv_w = p.inv_w[0] + ox * p.inv_w[1] + oy * p.inv_w[2];
-                }
-                for k in 0..n {
-                    attrs[k] = (p.attr0[k] as f64
-                        + ox * p.attr_dx[k] as f64
-                        + oy * p.attr_dy[k] as f64) as f32;
-                }
-                step = (&p.attr_dx, p.inv_w[1]);
-                run = id;
-            }
-            next = x + 1;
-            let w = if PERSPECTIVE {
-                (1.0 / inv_w) as f32
-            } else {
-                1.0
-            };
-            for k in 0..n {
-                batch[len][k] = attrs[k] * w;
-            }
-            at[len] = base + x;
-            len += 1;
-            shaded += 1;
-            if len == 4 {
-                flush(&mut batch, &at, len, color);
-                len = 0;
+                next = x + 1;
+                let w = if PERSPECTIVE {
+                    (1.0 / inv_w) as f32
+                } else {
+                    1.0
+                };
+                pending.push(base + x, (&attrs, w, n), &shade4, color);
+                shaded += 1;
             }
         }
+        pending.flush_with(&shade4, color);
+        shaded
     }
-    if len > 0 {
-        flush(&mut batch, &at, len, color);
-    }
-    shaded
 }
 
 fn traverse_impl<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
@@ -522,11 +523,8 @@ fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let yc = y as f64 + 0.5;
     let (ox, oy) = (xc - t.origin.0, yc - t.origin.1);
     let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
-    let mut inv_w = t.inv_w[0] + ox * t.inv_w[1] + oy * t.inv_w[2];
-    let mut attrs: Attrs = [0.0; MAX_ATTRS];
-    for k in 0..n {
-        attrs[k] = (t.attr0[k] as f64 + ox * t.attr_dx[k] as f64 + oy * t.attr_dy[k] as f64) as f32;
-    }
+    let (mut inv_w, mut attrs) =
+        planes_at(&t.inv_w, [&t.attr0, &t.attr_dx, &t.attr_dy], (ox, oy), n);
     let mut state = kernel.span(tri, xc as f32, yc as f32);
     let row = ((y - target.y0) as usize) * target.width as usize;
     let id = match target.pass {
@@ -552,16 +550,10 @@ fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
                 1.0
             };
             if K::LANES == 4 {
-                let pending = &mut target.pending;
-                let slot = &mut pending.attrs[pending.len];
-                for k in 0..n {
-                    slot[k] = attrs[k] * w;
-                }
-                pending.idx[pending.len] = idx;
-                pending.len += 1;
-                if pending.len == 4 {
-                    pending.flush(kernel, tri, target.color);
-                }
+                let shade = |a: &[Attrs; 4], count| kernel.shade_lanes(tri, a, count);
+                target
+                    .pending
+                    .push(idx, (&attrs, w, n), shade, target.color);
             } else {
                 for k in 0..n {
                     out[k] = attrs[k] * w;

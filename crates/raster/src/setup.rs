@@ -137,8 +137,9 @@ pub fn to_screen(
 /// counter-clockwise in NDC, i.e. front-facing.
 #[inline]
 #[must_use]
-pub fn screen_area2(a: &ScreenVertex, b: &ScreenVertex, c: &ScreenVertex) -> i64 {
-    (b.fx - a.fx) * (c.fy - a.fy) - (c.fx - a.fx) * (b.fy - a.fy)
+pub fn screen_area2(p: &[ScreenPos; 3]) -> i64 {
+    let (x, y) = (p.map(|p| i64::from(p.fx)), p.map(|p| i64::from(p.fy)));
+    (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0])
 }
 
 /// The pixel rows `[lo, hi)` whose centres a triangle with these fixed-point `y` can cover:
@@ -239,19 +240,14 @@ impl RasterTri {
         n: usize,
         perspective: bool,
     ) -> bool {
-        let fxy = p.map(|p| (i64::from(p.fx), i64::from(p.fy)));
-        let area = (fxy[1].0 - fxy[0].0) * (fxy[2].1 - fxy[0].1)
-            - (fxy[2].0 - fxy[0].0) * (fxy[1].1 - fxy[0].1);
+        let area = screen_area2(&p);
         if area == 0 {
             return false;
         }
         // Interior on the positive side of every edge.
         let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };
-        let (f, p, attrs) = (
-            order.map(|i| fxy[i]),
-            order.map(|i| p[i]),
-            order.map(|i| attrs[i]),
-        );
+        let (p, attrs) = (order.map(|i| p[i]), order.map(|i| attrs[i]));
+        let f = p.map(|p| (i64::from(p.fx), i64::from(p.fy)));
         let area = area.abs();
         for i in 0..3 {
             let (p, q) = (f[i], f[(i + 1) % 3]);

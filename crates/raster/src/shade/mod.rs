@@ -82,7 +82,7 @@ pub trait Mode: Sync {
     /// Draws the triangle's pixels inside `target`; returns the pixels shaded.
     fn draw(&self, t: &RasterTri, tri: &Self::Tri, target: &mut BandTarget) -> u64;
     /// Whether the band's shading pass runs from the depth pass's id buffer alone
-    /// ([`crate::scanline::shade_by_pixel`] with [`Mode::shade4`]) instead of traversing the
+    /// ([`crate::scanline::ByPixel`] with [`Mode::shade4`]) instead of traversing the
     /// visible triangles again: for `EARLY_Z` modes whose pixels depend on nothing but the
     /// interpolated attributes.
     const BY_PIXEL: bool = false;

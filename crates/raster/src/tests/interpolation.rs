@@ -5,7 +5,7 @@
 use glam::Vec3;
 
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::scanline::{BandTarget, Kernel, Planes, depth_only, shade_by_pixel, traverse};
+use crate::scanline::{BandTarget, ByPixel, Kernel, Planes, depth_only, traverse};
 use crate::setup::{RasterTri, ScreenVertex};
 
 struct Record;
@@ -129,16 +129,18 @@ fn by_pixel_shading_reproduces_the_closed_form_of_the_nearest_triangle() {
         assert!(depth_only(t, &mut target, &mut ids, &mut extents, epoch + k as u64) > 0);
     }
     let planes = raster.map(|t| Planes::of(&t));
-    let n = shade_by_pixel(
-        (&[0, 1], &planes),
-        &ids,
+    let pass = ByPixel {
+        slot: &[0, 1],
+        planes: &planes,
+        ids: &ids,
         epoch,
-        &extents,
-        &mut color,
-        (w, 0),
-        (1, false),
-        |a, _| a.map(|a| Vec3::splat(a[0])),
-    );
+        extents: &extents,
+        width: w,
+        y0: 0,
+        n: 1,
+        perspective: false,
+    };
+    let n = pass.shade(&mut color, |a, _| a.map(|a| Vec3::splat(a[0])));
     let owned: Vec<usize> = (0..2)
         .map(|k| ids.iter().filter(|&&id| id == epoch + k as u64).count())
         .collect();
