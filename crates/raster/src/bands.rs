@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use rayon::prelude::*;
 
-use crate::framebuffer::{Framebuffer, fill_rows};
+use crate::framebuffer::{Framebuffer, clear_rows, mark_dirty, same_color};
 use crate::scanline::{BandTarget, ByPixel, Pass, Planes, depth_only};
 use crate::setup::{RasterTri, ScreenPos, ScreenVertex};
 use crate::shade::Mode;
@@ -307,12 +307,18 @@ pub fn draw_bands<M: Mode>(
     };
     let chunk = (BAND_ROWS * width) as usize;
     let clear = fb.pending_clear.take();
-    let (color, depth) = (&mut fb.color, &mut fb.depth);
-    let run = |(b, (color, depth)): (usize, (&mut [glam::Vec3], &mut [f32]))| -> u64 {
+    // Outside its dirty columns a row already holds the last clear's colour and depth.
+    let only_dirty = clear.is_some_and(|bg| same_color(fb.clean, bg));
+    if clear.is_some() {
+        fb.clean = clear;
+    }
+    let (color, depth, dirty) = (&mut fb.color, &mut fb.depth, &mut fb.dirty);
+    type Rows<'a> = ((&'a mut [glam::Vec3], &'a mut [f32]), &'a mut [(u32, u32)]);
+    let run = |(b, ((color, depth), dirty)): (usize, Rows)| -> u64 {
         if let Some(bg) = clear {
             // The frame's clear, deferred to here: each band clears its rows in parallel,
             // just before drawing them (they stay in cache).
-            fill_rows(color, depth, bg);
+            clear_rows((color, depth, dirty), width, bg, only_dirty);
         }
         let y0 = b as i64 * BAND_ROWS as i64;
         let in_band: usize = chunks.iter().map(|c| c.band(b).len()).sum();
@@ -326,6 +332,8 @@ pub fn draw_bands<M: Mode>(
                     sink ^= touch(recs.get(i + AHEAD), n);
                     if let Some(tri) = c.tris.get(r.tri as usize) {
                         if setup(&mut t, c, r, n) {
+                            // A mode writes only inside the triangle's pixel box.
+                            mark_dirty(dirty, y0, (t.y0, t.y1), (t.x0, t.x1), width);
                             shaded += mode.draw(&t, tri, &mut target);
                         }
                     }
@@ -366,6 +374,11 @@ pub fn draw_bands<M: Mode>(
                     );
                     seq += 1;
                 }
+            }
+            // Only the depth pass writes outside the pixels it recorded (the shading passes
+            // write where it did).
+            for (d, e) in dirty.iter_mut().zip(extents.iter()) {
+                *d = (d.0.min(e.0), d.1.max(e.1));
             }
             if M::BY_PIXEL {
                 // Planes of the triangles that can be visible, then every pixel from its id.
@@ -428,10 +441,12 @@ pub fn draw_bands<M: Mode>(
     match (threads > 1).then(|| pool(threads)).flatten() {
         Some(p) => p.install(|| {
             let jobs = color.par_chunks_mut(chunk).zip(depth.par_chunks_mut(chunk));
+            let jobs = jobs.zip(dirty.par_chunks_mut(BAND_ROWS as usize));
             jobs.enumerate().map(run).sum()
         }),
         None => {
             let jobs = color.chunks_mut(chunk).zip(depth.chunks_mut(chunk));
+            let jobs = jobs.zip(dirty.chunks_mut(BAND_ROWS as usize));
             jobs.enumerate().map(run).sum()
         }
     }

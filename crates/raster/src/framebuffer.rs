@@ -48,7 +48,17 @@ pub struct Framebuffer {
     /// A clear the renderer has deferred to its band jobs (each clears its own rows, in
     /// parallel, just before drawing them); never left set when `render` returns.
     pub(crate) pending_clear: Option<Vec3>,
+    /// The colour of the last clear, or `None` when unknown. Every pixel outside `dirty` holds
+    /// it (clamped) and the far depth, so the next clear to the same colour only rewrites the
+    /// dirty columns: a frame of a small object no longer pays for rewriting the whole image.
+    pub(crate) clean: Option<Vec3>,
+    /// Per row, the columns `[lo, hi)` written since the last clear ([`CLEAN_ROW`] for none).
+    /// Only the band jobs write pixels, and they widen this to each triangle's pixel box.
+    pub(crate) dirty: Vec<(u32, u32)>,
 }
+
+/// A row with no pixel written since the last clear (see [`Framebuffer`]'s `dirty`).
+pub(crate) const CLEAN_ROW: (u32, u32) = (u32::MAX, 0);
 
 /// Clamps to `[0, 1]`, NaN to 0: the one gate every colour passes on its way to a pixel.
 #[inline]
@@ -85,6 +95,8 @@ impl Framebuffer {
             color: vec![Vec3::ZERO; n],
             depth: vec![FAR_DEPTH; n],
             pending_clear: None,
+            clean: Some(Vec3::ZERO),
+            dirty: vec![CLEAN_ROW; height as usize],
         })
     }
 
@@ -100,9 +112,19 @@ impl Framebuffer {
         self.height
     }
 
-    /// Fills the colour with `background` (clamped) and resets depth to the far plane.
+    /// Fills the colour with `background` (clamped) and resets depth to the far plane. When the
+    /// last clear had the same colour, only the pixels written since are rewritten.
     pub fn clear(&mut self, background: Vec3) {
-        fill_rows(&mut self.color, &mut self.depth, clamp_color(background));
+        let bg = clamp_color(background);
+        let only_dirty = same_color(self.clean, bg);
+        let width = self.width;
+        clear_rows(
+            (&mut self.color, &mut self.depth, &mut self.dirty),
+            width,
+            bg,
+            only_dirty,
+        );
+        self.clean = Some(bg);
         self.pending_clear = None;
     }
 
@@ -234,6 +256,56 @@ fn save_atomic(
         let _ = std::fs::remove_file(&tmp);
         io_error(path, e.to_string())
     })
+}
+
+/// Whether `clean` holds exactly the colour `bg` (bit for bit: a clear to a different colour,
+/// however close, rewrites every pixel).
+pub(crate) fn same_color(clean: Option<Vec3>, bg: Vec3) -> bool {
+    clean.is_some_and(|c| c.to_array().map(f32::to_bits) == bg.to_array().map(f32::to_bits))
+}
+
+/// Clears rows `width` pixels wide (`color`, `depth` and their `dirty` extents, one per row):
+/// colour to `bg`, depth to the far plane, every row marked clean. With `only_dirty` (the rows
+/// already hold `bg` outside their dirty columns) only the dirty columns are rewritten.
+pub(crate) fn clear_rows(
+    (color, depth, dirty): (&mut [Vec3], &mut [f32], &mut [(u32, u32)]),
+    width: u32,
+    bg: Vec3,
+    only_dirty: bool,
+) {
+    let width = width as usize;
+    if !only_dirty {
+        fill_rows(color, depth, bg);
+    } else {
+        let rows = color.chunks_mut(width).zip(depth.chunks_mut(width));
+        for ((c, d), &(lo, hi)) in rows.zip(dirty.iter()) {
+            let (lo, hi) = (lo as usize, (hi as usize).min(width));
+            if lo < hi {
+                fill_rows(&mut c[lo..hi], &mut d[lo..hi], bg);
+            }
+        }
+    }
+    dirty.fill(CLEAN_ROW);
+}
+
+/// Widens the dirty extents of a band (`dirty[0]` is row `y0`) to columns `[x0, x1)` of rows
+/// `[ya, yb)` (image coordinates, clipped here to the band and `[0, width)`).
+#[inline]
+pub(crate) fn mark_dirty(
+    dirty: &mut [(u32, u32)],
+    y0: i64,
+    (ya, yb): (i64, i64),
+    (x0, x1): (i64, i64),
+    width: u32,
+) {
+    let (x0, x1) = (x0.max(0), x1.min(i64::from(width)));
+    let (ya, yb) = ((ya - y0).max(0), (yb - y0).min(dirty.len() as i64));
+    if x0 >= x1 || ya >= yb {
+        return;
+    }
+    for e in &mut dirty[ya as usize..yb as usize] {
+        *e = (e.0.min(x0 as u32), e.1.max(x1 as u32));
+    }
 }
 
 /// Clears rows: `color` to `bg`, `depth` to the far plane. Colours are written four at a time

@@ -4,7 +4,11 @@ use glam::{Mat4, Vec3, Vec4};
 use phosphor_lighting::{Effects, Light, LightSet, Material};
 
 use super::support::*;
-use crate::{BumpMap, Camera, DrawItem, ProceduralBump, RenderOptions, ShadingMode};
+use crate::framebuffer::FAR_DEPTH;
+use crate::{
+    BumpMap, Camera, DrawItem, Framebuffer, ProceduralBump, RenderOptions, RenderStats,
+    ShadingMode, render, render_fill_only,
+};
 
 const ONE_CODE: f32 = 1.0 / 255.0;
 
@@ -270,6 +274,68 @@ fn images_are_bit_identical_for_1_2_and_all_threads() {
             "{mode}"
         );
         assert!(one.color() == all.color(), "{mode}");
+    }
+}
+
+#[test]
+fn a_reused_framebuffer_gives_the_picture_of_a_fresh_one() {
+    // Frames of different objects, modes, sizes on screen and backgrounds drawn into one
+    // framebuffer (which clears only what the frame before wrote) against each drawn into a
+    // fresh one: colour and depth bit for bit, on one and on two threads.
+    let (sphere, set, mat) = (uv_sphere(1.0, 24, 12), s1_lights(), Material::s1());
+    let big = floor();
+    let cam = Camera::s1();
+    let grey = Vec3::splat(0.25);
+    let moved = |mode, x: f32, s: f32| DrawItem {
+        model: Mat4::from_translation(Vec3::new(x, 0.0, 0.0)) * Mat4::from_scale(Vec3::splat(s)),
+        ..item(&sphere, &mat, &set, mode)
+    };
+    let frames: Vec<(Vec<DrawItem>, Vec3)> = vec![
+        (vec![moved(ShadingMode::Phong, 0.0, 1.0)], Vec3::ZERO),
+        (vec![moved(ShadingMode::Flat, 1.2, 0.5)], Vec3::ZERO),
+        (
+            vec![item(&big, &mat, &set, ShadingMode::Gouraud)],
+            Vec3::ZERO,
+        ),
+        (
+            vec![
+                moved(ShadingMode::FastPhong, -1.0, 0.4),
+                moved(ShadingMode::Phong, 0.8, 0.3),
+            ],
+            Vec3::ZERO,
+        ),
+        (vec![moved(ShadingMode::Reference, 0.0, 0.2)], grey),
+        (vec![], grey),
+        (vec![moved(ShadingMode::Gouraud, -0.5, 0.7)], grey),
+        (vec![moved(ShadingMode::Phong, 0.5, 0.6)], Vec3::ZERO),
+    ];
+    type Draw = fn(&mut Framebuffer, &Camera, &[DrawItem], &RenderOptions) -> RenderStats;
+    let passes: [(&str, Draw); 2] = [("render", render), ("fill-only", render_fill_only)];
+    for (threads, (name, draw)) in [1, 2].into_iter().flat_map(|t| passes.map(|p| (t, p))) {
+        let mut reused = Framebuffer::new(96, 72).unwrap();
+        for (k, (draws, background)) in frames.iter().enumerate() {
+            let opts = RenderOptions {
+                threads,
+                background: *background,
+                ..RenderOptions::default()
+            };
+            let mut fresh = Framebuffer::new(96, 72).unwrap();
+            draw(&mut reused, &cam, draws, &opts);
+            draw(&mut fresh, &cam, draws, &opts);
+            assert!(
+                reused.color() == fresh.color() && reused.depth() == fresh.depth(),
+                "{name}, frame {k}, {threads} threads"
+            );
+        }
+        // An explicit clear to the last colour, then to another.
+        for background in [Vec3::ZERO, grey] {
+            reused.clear(background);
+            assert!(
+                reused.color().iter().all(|c| *c == background)
+                    && reused.depth().iter().all(|z| *z == FAR_DEPTH),
+                "{name}: clear after the frames"
+            );
+        }
     }
 }
 
