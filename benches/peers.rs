@@ -40,6 +40,8 @@ fn s1() -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes/bunny.obj");
     let mut mesh = load_obj(&path, &NormalOptions::s1()).expect("the bunny loads");
     mesh.normalize_unit();
+    // Render order, as Phosphor's scene loader stores it; both renderers get this mesh.
+    mesh.sort_spatially();
     let lights = LightSet::s1();
     let points = lights.points().iter().map(|p| [p.position, p.il]).collect();
     let camera = Camera::s1();

@@ -83,11 +83,13 @@ impl Scene {
     }
 }
 
-/// The S1 bunny: normals averaged over all faces sharing a position, normalized to the unit ball.
+/// The S1 bunny: normals averaged over all faces sharing a position, normalized to the unit ball,
+/// stored in render order as the scene loader stores it (`Mesh::sort_spatially`).
 fn bunny() -> Mesh {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/meshes/bunny.obj");
     let mut mesh = load_obj(&path, &NormalOptions::s1()).unwrap();
     mesh.normalize_unit();
+    mesh.sort_spatially();
     mesh
 }
 

@@ -83,6 +83,7 @@ pub mod error;
 mod loader;
 pub mod mesh;
 pub mod normals;
+mod order;
 pub mod primitives;
 mod scan;
 pub mod stats;

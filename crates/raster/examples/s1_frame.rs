@@ -42,6 +42,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut mesh = load_obj(&path, &NormalOptions::s1())?;
     mesh.normalize_unit();
+    // Render order, as the scene loader stores a file's mesh; S1_FILE_ORDER=1 keeps the
+    // file's order, to measure what the order is worth.
+    let file_order = std::env::var_os("S1_FILE_ORDER").is_some();
+    if !file_order {
+        mesh.sort_spatially();
+    }
     let (mat, lights, cam) = (Material::s1(), LightSet::s1(), Camera::s1());
     let effects = effects_for(&lights, &mat);
     let item = |mode| DrawItem {
@@ -64,8 +70,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let wanted = |name: &str| only.as_deref().is_none_or(|o| o == name);
     let mut fb = Framebuffer::new(w, h)?;
     println!(
-        "S1 bunny {w}x{h}: {} triangles, {frames} frames per line",
-        mesh.indices.len()
+        "S1 bunny {w}x{h}: {} triangles ({} order), {frames} frames per line",
+        mesh.indices.len(),
+        if file_order { "file" } else { "render" }
     );
     for &t in &threads {
         let opts = RenderOptions {

@@ -84,6 +84,8 @@ impl Scene {
                 }
             })?;
         mesh.normalize_unit();
+        // Render order (see `Mesh::sort_spatially`), as for every file a scene loads.
+        mesh.sort_spatially();
         let info = MeshInfo::of(&mesh);
         let mesh = SceneMesh {
             mesh,

@@ -740,6 +740,11 @@ fn build_mesh(
     if normalize {
         mesh.normalize_unit();
     }
+    if matches!(source, MeshSource::File { .. }) {
+        // A file's triangles come in the order they were written, often all over the surface;
+        // stored along a space-filling curve, a screen band's vertices sit together in memory.
+        mesh.sort_spatially();
+    }
     if mesh.uvs.is_some() {
         mesh.ensure_tangents();
     }
