@@ -207,8 +207,9 @@ pub fn map_indices<T: Send>(
 struct Scratch {
     /// The nearest triangle's id per band pixel.
     ids: Vec<u64>,
-    /// Per record of the band: whether it was nearest anywhere when drawn.
-    wrote: Vec<bool>,
+    /// Per record of the band: whether it is the nearest anywhere after the depth pass (only
+    /// such records are visible).
+    owns: Vec<bool>,
     /// Per row of the band: the columns the depth pass wrote.
     extents: Vec<(u32, u32)>,
     /// Per record: its index in `planes` (by-pixel shading).
@@ -230,7 +231,7 @@ thread_local! {
     static SCRATCH: RefCell<Scratch> = const {
         RefCell::new(Scratch {
             ids: Vec::new(),
-            wrote: Vec::new(),
+            owns: Vec::new(),
             extents: Vec::new(),
             slot: Vec::new(),
             planes: Vec::new(),
@@ -347,7 +348,7 @@ pub fn draw_bands<M: Mode>(
             let mut scratch = scratch.borrow_mut();
             let Scratch {
                 ids,
-                wrote,
+                owns,
                 extents,
                 slot,
                 planes,
@@ -360,19 +361,31 @@ pub fn draw_bands<M: Mode>(
             let mut target = BandTarget::new(color, depth, width, y0, count);
             let epoch = EPOCH.fetch_add(1, Ordering::Relaxed) << 32;
             let mut seq = epoch;
-            // Depth only: set-up without attributes (same edges and depth plane), and a note of
-            // the triangles that were nearest somewhere when drawn (only they can be visible).
-            wrote.clear();
+            // Depth only: set-up without attributes (same edges and depth plane).
             let mut sink = 0;
             for c in chunks {
                 let recs = c.band(b);
                 for (i, r) in recs.iter().enumerate() {
                     sink ^= touch(recs.get(i + AHEAD), 0);
-                    wrote.push(
-                        setup(&mut t, c, r, 0)
-                            && depth_only(&t, &mut target, ids, extents, seq) > 0,
-                    );
+                    if setup(&mut t, c, r, 0) {
+                        depth_only(&t, &mut target, ids, extents, seq);
+                    }
                     seq += 1;
+                }
+            }
+            // The records that own a pixel now, from the ids the pass left: only they are
+            // visible. (A triangle nearest somewhere when drawn is often covered later, by a
+            // nearer one drawn after it: about half of them in S1.)
+            owns.clear();
+            owns.resize((seq - epoch) as usize, false);
+            let w = width as usize;
+            for (row, &(lo, hi)) in extents.iter().enumerate() {
+                let (lo, hi) = (row * w + lo as usize, row * w + (hi as usize).min(w));
+                for &id in ids.get(lo..hi).unwrap_or(&[]) {
+                    // Ids below the epoch were left by earlier bands.
+                    if let Some(o) = id.checked_sub(epoch).and_then(|k| owns.get_mut(k as usize)) {
+                        *o = true;
+                    }
                 }
             }
             // Only the depth pass writes outside the pixels it recorded (the shading passes
@@ -381,17 +394,17 @@ pub fn draw_bands<M: Mode>(
                 *d = (d.0.min(e.0), d.1.max(e.1));
             }
             if M::BY_PIXEL {
-                // Planes of the triangles that can be visible, then every pixel from its id.
+                // Planes of the visible triangles, then every pixel from its id.
                 slot.clear();
                 planes.clear();
                 let mut k = 0;
                 for c in chunks {
                     let recs = c.band(b);
                     for (i, r) in recs.iter().enumerate() {
-                        if wrote.get(k + AHEAD) == Some(&true) {
+                        if owns.get(k + AHEAD) == Some(&true) {
                             sink ^= touch(recs.get(i + AHEAD), n);
                         }
-                        let visible = wrote.get(k) == Some(&true) && setup(&mut t, c, r, n);
+                        let visible = owns.get(k) == Some(&true) && setup(&mut t, c, r, n);
                         slot.push(if visible {
                             planes.len() as u32
                         } else {
@@ -423,7 +436,7 @@ pub fn draw_bands<M: Mode>(
             let (mut shaded, mut seq) = (0, epoch);
             for c in chunks {
                 for r in c.band(b) {
-                    let candidate = wrote.get((seq - epoch) as usize) == Some(&true);
+                    let candidate = owns.get((seq - epoch) as usize) == Some(&true);
                     if let (true, Some(tri)) = (candidate, c.tris.get(r.tri as usize)) {
                         if setup(&mut t, c, r, n) {
                             target.pass = Pass::Visible(seq);
