@@ -89,18 +89,20 @@ impl Pending {
         self.flush_with(|a, count| kernel.shade_lanes(tri, a, count), color);
     }
 
-    /// Queues pixel `idx` of the band with the first `n` of `attrs` times `w` (the
-    /// perspective divide), shading the group with `shade` once it holds four.
+    /// Queues pixel `idx` of the band with `attrs` times `w` (the perspective divide),
+    /// shading the group with `shade` once it holds four. Every lane is multiplied: kernels
+    /// read only their own attributes, and a fixed width compiles to a few vector multiplies
+    /// where a loop to the kernel's count did one lane at a time.
     #[inline(always)]
     fn push(
         &mut self,
         idx: usize,
-        (attrs, w, n): (&Attrs, f32, usize),
+        (attrs, w): (&Attrs, f32),
         shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
         color: &mut [Vec3],
     ) {
         let slot = &mut self.attrs[self.len];
-        for k in 0..n {
+        for k in 0..MAX_ATTRS {
             slot[k] = attrs[k] * w;
         }
         self.idx[self.len] = idx;
@@ -462,7 +464,8 @@ impl ByPixel<'_> {
                     if PERSPECTIVE {
                         inv_w += p.inv_w[1];
                     }
-                    for k in 0..n {
+                    // Every lane, as in `Pending::push`.
+                    for k in 0..MAX_ATTRS {
                         attrs[k] += p.attr_dx[k];
                     }
                 } else {
@@ -476,7 +479,7 @@ impl ByPixel<'_> {
                 } else {
                     1.0
                 };
-                pending.push(base + x, (&attrs, w, n), &shade4, color);
+                pending.push(base + x, (&attrs, w), &shade4, color);
                 shaded += 1;
             }
         }
@@ -553,7 +556,7 @@ fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
                 let shade = |a: &[Attrs; 4], count| kernel.shade_lanes(tri, a, count);
                 target
                     .pending
-                    .push(idx, (&attrs, w, n), shade, target.color);
+                    .push(idx, (&attrs, w), shade, target.color);
             } else {
                 for k in 0..n {
                     out[k] = attrs[k] * w;
