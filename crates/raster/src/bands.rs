@@ -259,17 +259,25 @@ pub fn draw_bands<M: Mode>(
 ) -> u64 {
     let width = fb.width();
     let n = M::ATTRS;
-    // Set-up of record `r` of chunk `c` into `t` with `n` attributes; false when it has no
-    // vertices or no area.
-    let setup = |t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec, n: usize| -> bool {
+    // Set-up of record `r` of chunk `c` into `t` with `n` attributes (with `EDGES` false,
+    // only the planes: `RasterTri::set_planes`); false when it has no vertices or no area.
+    let set = |t: &mut RasterTri, p: [ScreenPos; 3], a: [&[f32]; 3], n: usize, edges: bool| {
+        if edges {
+            t.set(p, a, n, perspective)
+        } else {
+            t.set_planes(p, a, n, perspective)
+        }
+    };
+    let setup_as = |t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec, n: usize, edges| -> bool {
         if r.v.iter().any(|&i| i & EXTRA_VERTEX != 0) {
             let v = r.v.map(|i| c.extra.get((i & !EXTRA_VERTEX) as usize));
             return match v {
-                [Some(a), Some(b), Some(d)] => t.set(
+                [Some(a), Some(b), Some(d)] => set(
+                    t,
                     [a.pos(), b.pos(), d.pos()],
                     [&a.attrs, &b.attrs, &d.attrs],
                     n,
-                    perspective,
+                    edges,
                 ),
                 _ => false,
             };
@@ -287,7 +295,10 @@ pub fn draw_bands<M: Mode>(
         if a.iter().any(|a| a.len() < n) {
             return false;
         }
-        t.set(p, a, n, perspective)
+        set(t, p, a, n, edges)
+    };
+    let setup = |t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec, n: usize| -> bool {
+        setup_as(t, c, r, n, true)
     };
     // Reads the first vertex data set-up will need of a record `AHEAD` places on, so that
     // the cache misses of fetching it (vertices are scattered over the mesh) overlap the
@@ -404,7 +415,8 @@ pub fn draw_bands<M: Mode>(
                         if owns.get(k + AHEAD) == Some(&true) {
                             sink ^= touch(recs.get(i + AHEAD), n);
                         }
-                        let visible = owns.get(k) == Some(&true) && setup(&mut t, c, r, n);
+                        let visible =
+                            owns.get(k) == Some(&true) && setup_as(&mut t, c, r, n, false);
                         slot.push(if visible {
                             planes.len() as u32
                         } else {

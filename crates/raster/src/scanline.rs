@@ -554,9 +554,7 @@ fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
             };
             if K::LANES == 4 {
                 let shade = |a: &[Attrs; 4], count| kernel.shade_lanes(tri, a, count);
-                target
-                    .pending
-                    .push(idx, (&attrs, w), shade, target.color);
+                target.pending.push(idx, (&attrs, w), shade, target.color);
             } else {
                 for k in 0..n {
                     out[k] = attrs[k] * w;

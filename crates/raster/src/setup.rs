@@ -240,6 +240,31 @@ impl RasterTri {
         n: usize,
         perspective: bool,
     ) -> bool {
+        self.set_impl::<true>(p, attrs, n, perspective)
+    }
+
+    /// [`RasterTri::set`] without the edges and pixel box: only the planes (origin, depth,
+    /// `1/w`, attributes), bit for bit as `set` computes them. For a pass that reads the
+    /// planes of a triangle whose pixels are already known (by-pixel shading).
+    #[inline]
+    pub fn set_planes(
+        &mut self,
+        p: [ScreenPos; 3],
+        attrs: [&[f32]; 3],
+        n: usize,
+        perspective: bool,
+    ) -> bool {
+        self.set_impl::<false>(p, attrs, n, perspective)
+    }
+
+    #[inline(always)]
+    fn set_impl<const EDGES: bool>(
+        &mut self,
+        p: [ScreenPos; 3],
+        attrs: [&[f32]; 3],
+        n: usize,
+        perspective: bool,
+    ) -> bool {
         let area = screen_area2(&p);
         if area == 0 {
             return false;
@@ -249,7 +274,7 @@ impl RasterTri {
         let (p, attrs) = (order.map(|i| p[i]), order.map(|i| attrs[i]));
         let f = p.map(|p| (i64::from(p.fx), i64::from(p.fy)));
         let area = area.abs();
-        for i in 0..3 {
+        for i in (0..3).filter(|_| EDGES) {
             let (p, q) = (f[i], f[(i + 1) % 3]);
             // E(S) = (q - p) x (S - p) = (qx - px)(Sy - py) - (qy - py)(Sx - px).
             let a = -(q.1 - p.1);
@@ -259,8 +284,10 @@ impl RasterTri {
             self.edge_b[i] = b;
             self.edge_c[i] = -(a * p.0 + b * p.1) - i64::from(!top_left);
         }
-        (self.x0, self.x1) = row_range([f[0].0, f[1].0, f[2].0]);
-        (self.y0, self.y1) = row_range([f[0].1, f[1].1, f[2].1]);
+        if EDGES {
+            (self.x0, self.x1) = row_range([f[0].0, f[1].0, f[2].0]);
+            (self.y0, self.y1) = row_range([f[0].1, f[1].1, f[2].1]);
+        }
         // Plane gradients: A = A0 + gx (x - x0) + gy (y - y0) through the three vertices.
         let xy = f.map(|(x, y)| (x as f64 * INV_ONE, y as f64 * INV_ONE));
         let (dx1, dy1) = (xy[1].0 - xy[0].0, xy[1].1 - xy[0].1);
@@ -322,5 +349,42 @@ mod tests {
         assert_eq!(first_row_at_or_below(-300), -1);
         assert_eq!(ceil_div(-5, 2), -2);
         assert_eq!(ceil_div(5, 2), 3);
+    }
+
+    #[test]
+    fn planes_only_set_up_matches_the_full_one_bit_for_bit() {
+        let pos = |x: f64, y: f64, depth: f64, inv_w: f64| ScreenPos {
+            fx: (x * 256.0) as i32,
+            fy: (y * 256.0) as i32,
+            depth,
+            inv_w,
+        };
+        let p = [
+            pos(3.3, 1.7, 0.25, 0.9),
+            pos(40.1, 9.2, 0.5, 0.4),
+            pos(12.6, 30.9, 0.75, 0.7),
+        ];
+        let a: [[f32; 4]; 3] = [
+            [1.0, -2.0, 0.3, 7.0],
+            [0.5, 4.0, -0.1, 2.0],
+            [3.0, 0.0, 0.9, -5.0],
+        ];
+        // Both windings (the set-up reorders the vertices of one of them).
+        for order in [[0, 1, 2], [0, 2, 1]] {
+            let (p, a) = (order.map(|i| p[i]), order.map(|i| &a[i][..]));
+            let (mut full, mut planes) = (RasterTri::empty(), RasterTri::empty());
+            assert!(full.set(p, a, 4, true) && planes.set_planes(p, a, 4, true));
+            let bits = |t: &RasterTri| {
+                let mut v: Vec<u64> = vec![t.origin.0.to_bits(), t.origin.1.to_bits()];
+                v.extend(t.depth.iter().chain(&t.inv_w).map(|x| x.to_bits()));
+                let attrs = t.attr0.iter().chain(&t.attr_dx).chain(&t.attr_dy);
+                v.extend(attrs.map(|x| u64::from(x.to_bits())));
+                v
+            };
+            assert_eq!(bits(&full), bits(&planes), "{order:?}");
+            assert!(full.attr_dx[0] != 0.0 && full.inv_w[1] != 0.0);
+        }
+        let line = [p[0], p[0], p[1]];
+        assert!(!RasterTri::empty().set_planes(line, [&[]; 3], 0, true));
     }
 }
