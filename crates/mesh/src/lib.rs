@@ -1,7 +1,9 @@
 //! `phosphor-mesh`: triangle meshes for Phosphor. OBJ loading (through tobj, plus a light line
 //! scan for smoothing groups and line-numbered errors), face normals robust for slivers,
 //! vertex normals averaged only within a surface (seeds: `N_v = sum N_k / |sum N_k|`),
-//! tangents, and analytic primitives with exact normals. Knows nothing of light or pixels.
+//! tangents, analytic primitives with exact normals, and a render order
+//! ([`Mesh::sort_spatially`]: triangles along a Morton curve, so neighbours in memory are
+//! neighbours in space). Knows nothing of light or pixels.
 //!
 //! ```
 //! use phosphor_mesh::{parse_obj, primitives, NormalOptions};
@@ -22,6 +24,12 @@
 //! // Primitives carry exact normals, uvs and tangents.
 //! let sphere = primitives::uv_sphere(1.0, 32, 16);
 //! assert!(sphere.is_consistent());
+//!
+//! // Render order: the same triangles, stored for memory locality.
+//! let mut sorted = sphere.clone();
+//! sorted.sort_spatially();
+//! assert_eq!(sorted.indices.len(), sphere.indices.len());
+//! assert!(sorted.is_consistent());
 //! # Ok::<(), phosphor_mesh::MeshError>(())
 //! ```
 //!
