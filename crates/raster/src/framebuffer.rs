@@ -176,22 +176,38 @@ impl Framebuffer {
     }
 
     /// [`Framebuffer::write_0rgb`] on `threads` threads (0 = all cores), by rows; the same bytes.
+    ///
+    /// Outside the columns written since the last clear every pixel holds the clear's colour,
+    /// so those are filled with its one encoded value and only the written columns are
+    /// converted pixel by pixel (a frame of a small object converts a fraction of the image).
     pub fn write_0rgb_threads(&self, out: &mut [u32], threads: usize) {
         let enc = Encoder::new(Encoding::Srgb);
+        let pack = |c: &Vec3| {
+            let (r, g, b) = (enc.encode(c.x), enc.encode(c.y), enc.encode(c.z));
+            (u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b)
+        };
+        let width = self.width as usize;
         let n = out.len().min(self.color.len());
-        let rows = self.width as usize * 16;
-        crate::bands::for_each_chunk(
-            threads,
-            &mut out[..n],
-            &self.color[..n],
-            (rows, 1),
-            |dst, src| {
-                for (dst, c) in dst.iter_mut().zip(src) {
-                    let (r, g, b) = (enc.encode(c.x), enc.encode(c.y), enc.encode(c.z));
-                    *dst = (u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b);
+        let background = self.clean.as_ref().map(pack);
+        let rows: Vec<usize> = (0..n.div_ceil(width)).collect();
+        crate::bands::for_each_chunk(threads, &mut out[..n], &rows, (16, width), |dst, rows| {
+            for (dst, &y) in dst.chunks_mut(width).zip(rows) {
+                let src = &self.color[y * width..y * width + dst.len()];
+                let (lo, hi) = match (background, self.dirty.get(y)) {
+                    (Some(bg), Some(&(lo, hi))) => {
+                        let hi = (hi as usize).min(dst.len());
+                        let lo = (lo as usize).min(hi);
+                        dst[..lo].fill(bg);
+                        dst[hi..].fill(bg);
+                        (lo, hi)
+                    }
+                    _ => (0, dst.len()),
+                };
+                for (d, c) in dst[lo..hi].iter_mut().zip(&src[lo..hi]) {
+                    *d = pack(c);
                 }
-            },
-        );
+            }
+        });
     }
 
     /// Interleaved 8-bit RGB, row-major from the top, through the encoding table.
@@ -347,6 +363,8 @@ mod tests {
     #[test]
     fn presenting_on_several_threads_gives_the_same_bytes() {
         let mut fb = Framebuffer::new(37, 41).unwrap();
+        // Written here behind the renderer's back: no pixel is known to hold a clear colour.
+        fb.clean = None;
         for (i, c) in fb.color.iter_mut().enumerate() {
             let t = i as f32 * 0.37;
             *c = Vec3::new(t.sin(), (t * 0.5).cos(), (t * 0.01).fract() * 1.2 - 0.1);

@@ -4,9 +4,10 @@ use glam::{Mat4, Vec3, Vec4};
 use phosphor_lighting::{Effects, Light, LightSet, Material};
 
 use super::support::*;
+use crate::encode::encode;
 use crate::framebuffer::FAR_DEPTH;
 use crate::{
-    BumpMap, Camera, DrawItem, Framebuffer, ProceduralBump, RenderOptions, RenderStats,
+    BumpMap, Camera, DrawItem, Encoding, Framebuffer, ProceduralBump, RenderOptions, RenderStats,
     ShadingMode, render, render_fill_only,
 };
 
@@ -326,6 +327,19 @@ fn a_reused_framebuffer_gives_the_picture_of_a_fresh_one() {
                 reused.color() == fresh.color() && reused.depth() == fresh.depth(),
                 "{name}, frame {k}, {threads} threads"
             );
+            // What the window shows (background pixels filled, written ones converted):
+            // every pixel's own conversion.
+            let each: Vec<u32> = fresh
+                .color()
+                .iter()
+                .map(|c| {
+                    let [r, g, b] = [c.x, c.y, c.z].map(|v| u32::from(encode(v, Encoding::Srgb)));
+                    (r << 16) | (g << 8) | b
+                })
+                .collect();
+            let mut shown = vec![0u32; each.len()];
+            reused.write_0rgb_threads(&mut shown, threads);
+            assert!(shown == each, "{name}, frame {k}: presented bytes");
         }
         // An explicit clear to the last colour, then to another.
         for background in [Vec3::ZERO, grey] {
@@ -598,6 +612,8 @@ fn docs_modes_side_by_side() {
     };
     let (w, h) = (160u32, 160u32);
     let mut strip = crate::Framebuffer::new(w * 5, h).unwrap();
+    // Written pixel by pixel below, not by the renderer: no pixel is known to hold a clear.
+    strip.clean = None;
     for (k, mode) in [
         ShadingMode::Flat,
         ShadingMode::Gouraud,
