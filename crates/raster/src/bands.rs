@@ -218,6 +218,34 @@ struct Scratch {
     planes: Vec<Planes>,
 }
 
+/// The screen positions and first `n` attributes of record `r`'s vertices: from `c`'s
+/// clipped vertices, or from the draw's per-vertex `pos` and `attrs` (`stride` per vertex);
+/// `None` when a vertex is missing or has no screen position.
+fn vertices_of<'a, T>(
+    r: &TriRec,
+    c: &'a Binned<T>,
+    (pos, attrs, stride): (&[ScreenPos], &'a [f32], usize),
+    n: usize,
+) -> Option<([ScreenPos; 3], [&'a [f32]; 3])> {
+    if r.v.iter().any(|&i| i & EXTRA_VERTEX != 0) {
+        let v = r.v.map(|i| c.extra.get((i & !EXTRA_VERTEX) as usize));
+        let [Some(a), Some(b), Some(d)] = v else {
+            return None;
+        };
+        return Some(([a.pos(), b.pos(), d.pos()], [&a.attrs, &b.attrs, &d.attrs]));
+    }
+    let p =
+        r.v.map(|i| pos.get(i as usize).copied().unwrap_or(ScreenPos::NONE));
+    if p.iter().any(ScreenPos::is_none) {
+        return None;
+    }
+    let a = r.v.map(|i| {
+        let i = i as usize;
+        attrs.get(i * stride..(i + 1) * stride).unwrap_or(&[])
+    });
+    a.iter().all(|a| a.len() >= n).then_some((p, a))
+}
+
 /// How many records ahead the band loops touch vertex data (see `touch` in [`draw_bands`]).
 const AHEAD: usize = 4;
 
@@ -259,46 +287,11 @@ pub fn draw_bands<M: Mode>(
 ) -> u64 {
     let width = fb.width();
     let n = M::ATTRS;
-    // Set-up of record `r` of chunk `c` into `t` with `n` attributes (with `EDGES` false,
-    // only the planes: `RasterTri::set_planes`); false when it has no vertices or no area.
-    let set = |t: &mut RasterTri, p: [ScreenPos; 3], a: [&[f32]; 3], n: usize, edges: bool| {
-        if edges {
-            t.set(p, a, n, perspective)
-        } else {
-            t.set_planes(p, a, n, perspective)
-        }
-    };
-    let setup_as = |t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec, n: usize, edges| -> bool {
-        if r.v.iter().any(|&i| i & EXTRA_VERTEX != 0) {
-            let v = r.v.map(|i| c.extra.get((i & !EXTRA_VERTEX) as usize));
-            return match v {
-                [Some(a), Some(b), Some(d)] => set(
-                    t,
-                    [a.pos(), b.pos(), d.pos()],
-                    [&a.attrs, &b.attrs, &d.attrs],
-                    n,
-                    edges,
-                ),
-                _ => false,
-            };
-        }
-        let p =
-            r.v.map(|i| pos.get(i as usize).copied().unwrap_or(ScreenPos::NONE));
-        if p.iter().any(ScreenPos::is_none) {
-            return false;
-        }
-        let a = r.v.map(|i| {
-            attrs
-                .get(i as usize * M::ATTRS..(i as usize + 1) * M::ATTRS)
-                .unwrap_or(&[])
-        });
-        if a.iter().any(|a| a.len() < n) {
-            return false;
-        }
-        set(t, p, a, n, edges)
-    };
+    // Set-up of record `r` of chunk `c` into `t` with `n` attributes; false when it has no
+    // vertices or no area.
     let setup = |t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec, n: usize| -> bool {
-        setup_as(t, c, r, n, true)
+        vertices_of(r, c, (pos, attrs, M::ATTRS), n)
+            .is_some_and(|(p, a)| t.set(p, a, n, perspective))
     };
     // Reads the first vertex data set-up will need of a record `AHEAD` places on, so that
     // the cache misses of fetching it (vertices are scattered over the mesh) overlap the
@@ -415,8 +408,10 @@ pub fn draw_bands<M: Mode>(
                         if owns.get(k + AHEAD) == Some(&true) {
                             sink ^= touch(recs.get(i + AHEAD), n);
                         }
-                        let visible =
-                            owns.get(k) == Some(&true) && setup_as(&mut t, c, r, n, false);
+                        // Its pixels are known: the planes alone.
+                        let visible = owns.get(k) == Some(&true)
+                            && vertices_of(r, c, (pos, attrs, M::ATTRS), n)
+                                .is_some_and(|(p, a)| t.set_planes(p, a, n, perspective));
                         slot.push(if visible {
                             planes.len() as u32
                         } else {

@@ -464,26 +464,23 @@ fn pixels_per_triangle_is_the_projected_disc_over_the_front_half() {
     // a disc of radius 540 / (tan 22.5 deg * sqrt 8) = 460.9 px.
     let r_px = 540.0 / (22.5f32.to_radians().tan() * 8f32.sqrt());
     let disc = std::f32::consts::PI * r_px * r_px;
-    let px = pixels_per_triangle(
-        (Vec3::ZERO, 1.0),
-        Vec3::new(0.0, 0.0, 3.0),
-        45.0,
-        (1920, 1080),
-        10_000,
-    );
+    let seen_from = |z: f32| {
+        pixels_per_triangle(
+            (Vec3::ZERO, 1.0),
+            Vec3::new(0.0, 0.0, z),
+            45.0,
+            (1920, 1080),
+            10_000,
+        )
+    };
+    let px = seen_from(3.0);
     assert!(
         (px - disc / 5000.0).abs() < 1e-3 * px,
         "{px} vs {}",
         disc / 5000.0
     );
     // Twice as far: a quarter of the pixels (nearly: the disc is the sphere's silhouette).
-    let far = pixels_per_triangle(
-        (Vec3::ZERO, 1.0),
-        Vec3::new(0.0, 0.0, 6.0),
-        45.0,
-        (1920, 1080),
-        10_000,
-    );
+    let far = seen_from(6.0);
     assert!(far < px * 0.26 && far > px * 0.2, "{far} vs {px}");
     // Inside the sphere, or with no triangles: the viewport bounds it, and it stays finite.
     let inside = pixels_per_triangle((Vec3::ZERO, 5.0), Vec3::ZERO, 45.0, (640, 480), 2);
