@@ -397,19 +397,41 @@ pub fn draw_bands<M: Mode>(
             for (d, e) in dirty.iter_mut().zip(extents.iter()) {
                 *d = (d.0.min(e.0), d.1.max(e.1));
             }
+            // The visible pass: records that own a pixel (and, after a by-pixel pass, only
+            // those it left out) traversed again, each pixel shaded where its id names them.
+            let visible_pass = |target: &mut BandTarget, t: &mut RasterTri, by_pixel_done: bool| {
+                let (mut shaded, mut seq) = (0, epoch);
+                for c in chunks {
+                    for r in c.band(b) {
+                        let owner = owns.get((seq - epoch) as usize) == Some(&true);
+                        if let (true, Some(tri)) = (owner, c.tris.get(r.tri as usize)) {
+                            if !(by_pixel_done && M::by_pixel(tri)) && setup(t, c, r, n) {
+                                target.pass = Pass::Visible(seq);
+                                shaded += mode.draw(t, tri, target);
+                            }
+                        }
+                        seq += 1;
+                    }
+                }
+                mode.finish(target);
+                shaded
+            };
             if M::BY_PIXEL {
                 // Planes of the visible triangles, then every pixel from its id.
                 slot.clear();
                 planes.clear();
-                let mut k = 0;
+                let (mut k, mut traced) = (0, false);
                 for c in chunks {
                     let recs = c.band(b);
                     for (i, r) in recs.iter().enumerate() {
                         if owns.get(k + AHEAD) == Some(&true) {
                             sink ^= touch(recs.get(i + AHEAD), n);
                         }
+                        let owner = owns.get(k) == Some(&true);
+                        let by_pixel = owner && c.tris.get(r.tri as usize).is_some_and(M::by_pixel);
+                        traced |= owner && !by_pixel;
                         // Its pixels are known: the planes alone.
-                        let visible = owns.get(k) == Some(&true)
+                        let visible = by_pixel
                             && vertices_of(r, c, (pos, attrs, M::ATTRS), n)
                                 .is_some_and(|(p, a)| t.set_planes(p, a, n, perspective));
                         slot.push(if visible {
@@ -424,7 +446,6 @@ pub fn draw_bands<M: Mode>(
                     }
                 }
                 std::hint::black_box(sink);
-                let BandTarget { color, .. } = target;
                 let pass = ByPixel {
                     slot,
                     planes,
@@ -436,25 +457,16 @@ pub fn draw_bands<M: Mode>(
                     n,
                     perspective: perspective && n > 0,
                 };
-                return pass.shade(color, |a, count| mode.shade4(a, count));
+                let shaded = pass.shade(target.color, |a, count| mode.shade4(a, count));
+                if !traced {
+                    return shaded;
+                }
+                target.ids = ids;
+                return shaded + visible_pass(&mut target, &mut t, true);
             }
             std::hint::black_box(sink);
             target.ids = ids;
-            let (mut shaded, mut seq) = (0, epoch);
-            for c in chunks {
-                for r in c.band(b) {
-                    let candidate = owns.get((seq - epoch) as usize) == Some(&true);
-                    if let (true, Some(tri)) = (candidate, c.tris.get(r.tri as usize)) {
-                        if setup(&mut t, c, r, n) {
-                            target.pass = Pass::Visible(seq);
-                            shaded += mode.draw(&t, tri, &mut target);
-                        }
-                    }
-                    seq += 1;
-                }
-            }
-            mode.finish(&mut target);
-            shaded
+            visible_pass(&mut target, &mut t, false)
         })
     };
     let threads = effective_threads(threads);

@@ -215,6 +215,14 @@ impl<'v, M: Mode> Group<'_, 'v, M> {
         at
     }
 
+    /// Adds data already computed ([`Mode::triangle_from_positions`]), after the queued
+    /// triangles; returns its index in `tris`.
+    fn add_ready(&mut self, tri: M::Tri, tris: &mut Vec<M::Tri>) -> u32 {
+        self.flush(tris);
+        tris.push(tri);
+        (tris.len() - 1) as u32
+    }
+
     /// Computes the data of a triangle whose vertices do not outlive the call (a clipped
     /// one), after the queued ones; returns its index in `tris`.
     fn add_now(
@@ -352,7 +360,9 @@ fn run<M: Mode>(
                 };
                 drawn += 1;
                 if let Some((b0, b1)) = on_screen(p, rows) {
-                    let tri = if M::READS_VERTICES {
+                    let tri = if let Some(tri) = mode.triangle_from_positions(&p) {
+                        group.add_ready(tri, &mut tris)
+                    } else if M::READS_VERTICES {
                         let (Some(a), Some(b), Some(c)) = (&screen[i0], &screen[i1], &screen[i2])
                         else {
                             continue;

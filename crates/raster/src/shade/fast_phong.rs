@@ -21,7 +21,8 @@ use super::{Lit, Mode, VertexIn, surface_attrs};
 use crate::clip::Attrs;
 use crate::framebuffer::clamp_color;
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::{RasterTri, ScreenVertex};
+use crate::setup::{RasterTri, ScreenPos, ScreenVertex, screen_area2};
+use phosphor_math::fixed::SUBPIXEL_ONE;
 
 /// Largest error (per channel, on the `[0, 1]` intensity) the fit may show at the check
 /// points before the triangle falls back to `phong`: one 8-bit code.
@@ -94,15 +95,14 @@ impl PolyTri {
     }
 }
 
-/// Fast Phong's per-triangle choice (stored inline: triangles are set up once into one Vec).
-#[derive(Debug, Clone, Copy)]
-#[allow(
-    clippy::large_enum_variant,
-    reason = "boxing would allocate per triangle"
-)]
+/// Fast Phong's per-triangle choice. A fit is boxed: every accepted triangle gets one of these
+/// (72k per S1 frame, most of them too small to fit), and an inline fit made each 240 bytes,
+/// 17 MB a frame to write and read back; a box is allocated only for a triangle of at least
+/// [`MIN_FIT_AREA_PX`] whose fit holds, and each such triangle has as many pixels to pay for it.
+#[derive(Debug, Clone)]
 pub enum FastTri {
     /// The polynomial fits: forward differences.
-    Poly(PolyTri),
+    Poly(Box<PolyTri>),
     /// It does not: exact per-pixel Phong for this triangle.
     Phong,
     /// Too small to be worth a fit ([`MIN_FIT_AREA_PX`]): exact per-pixel Phong.
@@ -300,31 +300,49 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
+    #[inline]
+    fn triangle_from_positions(&self, p: &[ScreenPos; 3]) -> Option<FastTri> {
+        // The area first: most triangles of a dense mesh stop here, before their vertices
+        // are fetched. Twice the area in 1/256 pixel units, exact in integers.
+        let area2 = screen_area2(p).unsigned_abs() as f64;
+        (area2 * 0.5 < MIN_FIT_AREA_PX * (SUBPIXEL_ONE * SUBPIXEL_ONE) as f64)
+            .then_some(FastTri::Small)
+    }
     fn triangle(
         &self,
         _: [&VertexIn; 3],
         screen: [&ScreenVertex; 3],
         perspective: bool,
     ) -> FastTri {
-        // The area first: most triangles of a dense mesh stop here, before any set-up.
+        // The same test as `triangle_from_positions`, for clipped triangles.
         let [a, b, c] = screen.map(|v| DVec2::new(v.x, v.y));
         if (b - a).perp_dot(c - a).abs() * 0.5 < MIN_FIT_AREA_PX {
             return FastTri::Small;
         }
         // Sorted corners: the fit is the same whatever the mesh's vertex order.
         match self.fit(&FitTri::new(screen, perspective)) {
-            Some(p) => FastTri::Poly(p),
+            Some(p) => FastTri::Poly(Box::new(p)),
             None => FastTri::Phong,
         }
     }
     fn draw(&self, t: &RasterTri, tri: &FastTri, target: &mut BandTarget) -> u64 {
         match tri {
-            FastTri::Poly(p) => traverse(t, &PolyKernel, p, target),
+            FastTri::Poly(p) => traverse(t, &PolyKernel, &**p, target),
             FastTri::Phong | FastTri::Small => traverse(t, &self.phong(), &(), target),
         }
     }
     fn finish(&self, target: &mut BandTarget) {
         target.pending.flush(&self.phong(), &(), target.color);
+    }
+    // Triangles shaded exactly (too small to fit, or refused) take phong's by-pixel pass;
+    // only fitted ones are traversed again, to step their polynomials along the spans.
+    const BY_PIXEL: bool = true;
+    #[inline]
+    fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
+        self.phong().shade4(attrs, count)
+    }
+    fn by_pixel(tri: &FastTri) -> bool {
+        !matches!(tri, FastTri::Poly(_))
     }
     fn is_fallback(tri: &FastTri) -> bool {
         matches!(tri, FastTri::Phong)

@@ -17,7 +17,7 @@ use phosphor_lighting::{Effects, Material};
 
 use crate::clip::Attrs;
 use crate::scanline::BandTarget;
-use crate::setup::{RasterTri, ScreenVertex};
+use crate::setup::{RasterTri, ScreenPos, ScreenVertex};
 
 pub mod fast_phong;
 pub mod flat;
@@ -62,6 +62,14 @@ pub trait Mode: Sync {
         screen: [&ScreenVertex; 3],
         perspective: bool,
     ) -> Self::Tri;
+    /// The triangle's data from its snapped screen positions alone, when they decide it
+    /// (`None`: call [`Mode::triangle`]). Checked first for a triangle inside the clip volume,
+    /// so that one the positions settle costs no fetch of its vertices.
+    #[inline]
+    fn triangle_from_positions(&self, p: &[ScreenPos; 3]) -> Option<Self::Tri> {
+        let _ = p;
+        None
+    }
     /// Whether [`Mode::triangle`] reads its vertices. When false the renderer hands it
     /// placeholders instead of fetching them (a dense mesh's vertices are scattered in
     /// memory, and the fetch is most of the cost of accepting a triangle).
@@ -91,6 +99,14 @@ pub trait Mode: Sync {
     fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
         let _ = (attrs, count);
         [Vec3::ZERO; 4]
+    }
+    /// With [`Mode::BY_PIXEL`]: whether this triangle's pixels come from the by-pixel pass
+    /// ([`Mode::shade4`] of its interpolated attributes). A triangle for which it is false is
+    /// drawn by [`Mode::draw`] in a visible pass after it, over the pixels it owns (fast
+    /// Phong's fitted polynomials).
+    fn by_pixel(tri: &Self::Tri) -> bool {
+        let _ = tri;
+        true
     }
     /// Called after a band's last triangle: shades pixels still waiting in
     /// `target.pending` (kernels shading four pixels across triangles).
