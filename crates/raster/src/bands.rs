@@ -178,6 +178,45 @@ pub fn for_each_chunk<O: Send, S: Sync>(
     }
 }
 
+/// Calls `f(first, a, b)` on matching chunks of `a` (`chunk` items each, the first being item
+/// `first`) and `b` (`chunk * per_b` items each; empty chunks when `per_b` is 0), in parallel
+/// on the cached pool when `threads` asks for more than one: one pass writing two outputs.
+pub fn for_each_chunk_pair<A: Send, B: Send>(
+    threads: usize,
+    a: &mut [A],
+    b: &mut [B],
+    (chunk, per_b): (usize, usize),
+    f: impl Fn(usize, &mut [A], &mut [B]) + Sync + Send,
+) {
+    let threads = effective_threads(threads);
+    let chunk = chunk.max(1);
+    let pool = (threads > 1 && a.len() > chunk)
+        .then(|| pool(threads))
+        .flatten();
+    match (pool, per_b) {
+        (Some(p), 0) => p.install(|| {
+            a.par_chunks_mut(chunk)
+                .enumerate()
+                .for_each(|(k, a)| f(k * chunk, a, &mut []));
+        }),
+        (Some(p), per) => p.install(|| {
+            a.par_chunks_mut(chunk)
+                .zip(b.par_chunks_mut(chunk * per))
+                .enumerate()
+                .for_each(|(k, (a, b))| f(k * chunk, a, b));
+        }),
+        (None, 0) => a
+            .chunks_mut(chunk)
+            .enumerate()
+            .for_each(|(k, a)| f(k * chunk, a, &mut [])),
+        (None, per) => a
+            .chunks_mut(chunk)
+            .zip(b.chunks_mut(chunk * per))
+            .enumerate()
+            .for_each(|(k, (a, b))| f(k * chunk, a, b)),
+    }
+}
+
 /// `f(0), f(1), .., f(len - 1)`, in parallel on the cached pool when `threads` asks for more
 /// than one (at least `min_len` indices per task), collected in order into one Vec written in
 /// place (no per-chunk Vecs to concatenate).

@@ -5,8 +5,8 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use phosphor_lighting::Effects;
 
 use crate::bands::{
-    BAND_ROWS, Binned, EXTRA_VERTEX, TriRec, band_range, draw_bands, for_each_chunk, map_chunks,
-    map_indices,
+    BAND_ROWS, Binned, EXTRA_VERTEX, TriRec, band_range, draw_bands, for_each_chunk_pair,
+    map_chunks, map_indices,
 };
 use crate::clip::{ClipVertex, clip_triangle, guard_band, inside_clip_volume};
 use crate::framebuffer::{Framebuffer, RasterError};
@@ -301,35 +301,53 @@ fn run<M: Mode>(
     let verts = vertex_stage(d, vp, opts.threads);
     let guard = guard_band(w, h);
     let persp = opts.perspective_correct;
-    // Per vertex, once (a mesh vertex is shared by about six triangles): the mode's
-    // attributes and, for a vertex inside every clip plane, its screen vertex. A triangle whose
-    // three vertices are inside is not changed by clipping, so it takes these as they are.
-    let blank = ClipVertex {
-        pos: Vec4::ZERO,
-        attrs: [0.0; crate::clip::MAX_ATTRS],
-    };
-    let mut clip = vec![blank; verts.len()];
-    for_each_chunk(opts.threads, &mut clip, &verts, (4096, 1), |out, src| {
-        for (out, group) in out.chunks_mut(4).zip(src.chunks(4)) {
-            let attrs = mode.vertex4(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
-            for ((o, v), attrs) in out.iter_mut().zip(group).zip(attrs) {
-                *o = ClipVertex { pos: v.0, attrs };
-            }
-        }
-    });
-    let screen = map_indices(opts.threads, verts.len(), 4096, |i| {
-        let cv = &clip[i];
+    // Per vertex, once (a mesh vertex is shared by about six triangles), in one pass: the
+    // mode's attributes and, for a vertex inside every clip plane, its snapped screen position
+    // and attributes (divided by w), written compactly: accepting and band set-up fetch
+    // vertices all over the mesh, and a compact vertex spans fewer cache lines. A triangle
+    // whose three vertices are inside is not changed by clipping, so it takes these as they
+    // are; a clipped one recomputes its corners' attributes (`clip_vertex`, the same bits).
+    let screen_vertex = |cv: &ClipVertex| {
         (cv.pos.is_finite() && inside_clip_volume(cv.pos, guard))
             .then(|| to_screen(cv, w, h, M::ATTRS, persp))
             .flatten()
-    });
-    // Compact copies of what accepting and band set-up read: both fetch vertices all over
-    // the mesh, and a compact vertex spans fewer cache lines.
-    let pos: Vec<ScreenPos> = map_indices(opts.threads, screen.len(), 4096, |i| {
-        screen[i]
-            .as_ref()
-            .map_or(ScreenPos::NONE, ScreenVertex::pos)
-    });
+    };
+    let clip_vertex = |i: usize| ClipVertex {
+        pos: verts[i].0,
+        attrs: mode.vertex(&verts[i].1),
+    };
+    let mut pos = vec![ScreenPos::NONE; verts.len()];
+    let mut attrs = vec![0.0; verts.len() * M::ATTRS];
+    let per = (4096, M::ATTRS);
+    for_each_chunk_pair(
+        opts.threads,
+        &mut pos,
+        &mut attrs,
+        per,
+        |first, pos, attrs| {
+            let src = &verts[first..first + pos.len()];
+            for (g, group) in src.chunks(4).enumerate() {
+                let a4 = mode.vertex4(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
+                for (j, (v, a)) in group.iter().zip(a4).enumerate() {
+                    let i = 4 * g + j;
+                    if let Some(sv) = screen_vertex(&ClipVertex { pos: v.0, attrs: a }) {
+                        pos[i] = sv.pos();
+                        let out = attrs.get_mut(i * M::ATTRS..(i + 1) * M::ATTRS);
+                        out.unwrap_or(&mut [])
+                            .copy_from_slice(&sv.attrs[..M::ATTRS]);
+                    }
+                }
+            }
+        },
+    );
+    // Whole screen vertices only for modes that read them (see `Mode::READS_SCREEN`).
+    let screen: Vec<Option<ScreenVertex>> = if M::READS_SCREEN {
+        map_indices(opts.threads, verts.len(), 4096, |i| {
+            screen_vertex(&clip_vertex(i))
+        })
+    } else {
+        Vec::new()
+    };
     let bands = h.div_ceil(BAND_ROWS) as usize;
     let on_screen = |v: [ScreenPos; 3], rows: (i64, i64)| {
         let (x0, x1) = row_range(v.map(|v| i64::from(v.fx)));
@@ -362,12 +380,23 @@ fn run<M: Mode>(
                 if let Some((b0, b1)) = on_screen(p, rows) {
                     let tri = if let Some(tri) = mode.triangle_from_positions(&p) {
                         group.add_ready(tri, &mut tris)
-                    } else if M::READS_VERTICES {
-                        let (Some(a), Some(b), Some(c)) = (&screen[i0], &screen[i1], &screen[i2])
-                        else {
-                            continue;
+                    } else if M::READS_VERTICES || M::READS_SCREEN {
+                        let s = if M::READS_SCREEN {
+                            let (Some(a), Some(b), Some(c)) =
+                                (&screen[i0], &screen[i1], &screen[i2])
+                            else {
+                                continue;
+                            };
+                            [a, b, c]
+                        } else {
+                            [&NO_SCREEN_VERTEX; 3]
                         };
-                        group.add(([i0, i1, i2].map(|i| &verts[i].1), [a, b, c]), &mut tris)
+                        let v = if M::READS_VERTICES {
+                            [i0, i1, i2].map(|i| &verts[i].1)
+                        } else {
+                            [&NO_VERTEX; 3]
+                        };
+                        group.add((v, s), &mut tris)
                     } else {
                         group.add(([&NO_VERTEX; 3], [&NO_SCREEN_VERTEX; 3]), &mut tris)
                     };
@@ -382,7 +411,7 @@ fn run<M: Mode>(
                 }
                 continue;
             }
-            let tri = [clip[i0], clip[i1], clip[i2]];
+            let tri = [clip_vertex(i0), clip_vertex(i1), clip_vertex(i2)];
             if !tri.iter().all(|v| v.pos.is_finite()) {
                 continue;
             }
@@ -430,22 +459,6 @@ fn run<M: Mode>(
         stats.triangles_drawn += c.drawn;
         stats.fallbacks += c.fallbacks;
         binned.push(c.binned);
-    }
-    let mut attrs = vec![0.0; screen.len() * M::ATTRS];
-    if M::ATTRS > 0 {
-        for_each_chunk(
-            opts.threads,
-            &mut attrs,
-            &screen,
-            (4096, M::ATTRS),
-            |out, src| {
-                for (o, s) in out.chunks_exact_mut(M::ATTRS).zip(src) {
-                    if let Some(s) = s {
-                        o.copy_from_slice(&s.attrs[..M::ATTRS]);
-                    }
-                }
-            },
-        );
     }
     stats.pixels_shaded += draw_bands(fb, mode, &pos, &attrs, &binned, persp, opts.threads, count);
 }

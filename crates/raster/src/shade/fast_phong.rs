@@ -300,6 +300,7 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
+    const READS_VERTICES: bool = false;
     #[inline]
     fn triangle_from_positions(&self, p: &[ScreenPos; 3]) -> Option<FastTri> {
         // The area first: most triangles of a dense mesh stop here, before their vertices

@@ -41,6 +41,7 @@ impl<const FX: u32> Mode for Flat<'_, FX> {
         let (centroid, n) = facet(src.map(|v| v.world));
         shade::<FX>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
     }
+    const READS_SCREEN: bool = false;
     const BATCH_TRIANGLES: bool = true;
     fn triangle4(
         &self,
@@ -85,6 +86,7 @@ impl Mode for FillOnly {
         [0.0; MAX_ATTRS]
     }
     const READS_VERTICES: bool = false;
+    const READS_SCREEN: bool = false;
     fn triangle(&self, _: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) -> Vec3 {
         self.color
     }

@@ -57,6 +57,7 @@ impl<const FX: u32> Mode for Gouraud<'_, FX> {
         })
     }
     const READS_VERTICES: bool = false;
+    const READS_SCREEN: bool = false;
     fn triangle(&self, _: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) {}
     fn draw(&self, t: &RasterTri, tri: &(), target: &mut BandTarget) -> u64 {
         traverse(t, self, tri, target)

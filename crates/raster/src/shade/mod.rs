@@ -70,10 +70,14 @@ pub trait Mode: Sync {
         let _ = p;
         None
     }
-    /// Whether [`Mode::triangle`] reads its vertices. When false the renderer hands it
-    /// placeholders instead of fetching them (a dense mesh's vertices are scattered in
-    /// memory, and the fetch is most of the cost of accepting a triangle).
+    /// Whether [`Mode::triangle`] reads its mesh vertices (`src`). When false the renderer
+    /// hands it placeholders instead of fetching them (a dense mesh's vertices are scattered
+    /// in memory, and the fetch is most of the cost of accepting a triangle).
     const READS_VERTICES: bool = true;
+    /// Whether [`Mode::triangle`] reads its screen vertices (`screen`). Only then does the
+    /// renderer keep a whole [`ScreenVertex`] per mesh vertex (over 100 bytes); the others get
+    /// placeholders, and the bands read compact positions and attributes.
+    const READS_SCREEN: bool = true;
     /// Whether the renderer gathers triangles to call [`Mode::triangle4`] (modes whose
     /// per-triangle data costs a lighting evaluation); others get [`Mode::triangle`] directly.
     const BATCH_TRIANGLES: bool = false;

@@ -77,6 +77,7 @@ impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
         surface_attrs(v)
     }
     const READS_VERTICES: bool = false;
+    const READS_SCREEN: bool = false;
     fn triangle(&self, _: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) {}
     fn draw(&self, t: &RasterTri, tri: &(), target: &mut BandTarget) -> u64 {
         traverse(t, self, tri, target)

@@ -79,6 +79,7 @@ impl Mode for Reference<'_> {
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
+    const READS_VERTICES: bool = false;
     fn triangle(&self, _: [&VertexIn; 3], v: [&ScreenVertex; 3], perspective: bool) -> RefTri {
         let screen = v.map(|s| DVec2::new(s.x, s.y));
         let rhw = v.map(|s| s.rhw);
