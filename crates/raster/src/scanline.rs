@@ -324,25 +324,33 @@ pub fn depth_only(
     let mut written = 0;
     let width = target.width as usize;
     let (y0, y1, stored) = (target.y0, target.y1, &mut *target.depth);
-    for_each_span(t, target.width, y0, y1, |y, xs, xe| {
-        let (ox, oy) = (xs as f64 + 0.5 - t.origin.0, y as f64 + 0.5 - t.origin.1);
-        let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
-        let before = written;
-        let row = ((y - y0) as usize) * width;
-        for idx in row + xs as usize..row + xe as usize {
-            if depth_passes(depth, stored[idx]) {
-                stored[idx] = depth_stored(depth);
-                ids[idx] = id;
-                written += 1;
+    // Inlined: called once per row, and most triangles have only a few.
+    for_each_span(
+        t,
+        target.width,
+        y0,
+        y1,
+        #[inline(always)]
+        |y, xs, xe| {
+            let (ox, oy) = (xs as f64 + 0.5 - t.origin.0, y as f64 + 0.5 - t.origin.1);
+            let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
+            let before = written;
+            let row = ((y - y0) as usize) * width;
+            for idx in row + xs as usize..row + xe as usize {
+                if depth_passes(depth, stored[idx]) {
+                    stored[idx] = depth_stored(depth);
+                    ids[idx] = id;
+                    written += 1;
+                }
+                depth += t.depth[1];
             }
-            depth += t.depth[1];
-        }
-        if written > before {
-            if let Some(e) = extents.get_mut((y - y0) as usize) {
-                *e = (e.0.min(xs as u32), e.1.max(xe as u32));
+            if written > before {
+                if let Some(e) = extents.get_mut((y - y0) as usize) {
+                    *e = (e.0.min(xs as u32), e.1.max(xe as u32));
+                }
             }
-        }
-    });
+        },
+    );
     written
 }
 
@@ -497,9 +505,16 @@ fn traverse_impl<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let n = K::ATTRS.min(t.n);
     let mut shaded = 0;
     let (width, y0, y1) = (target.width, target.y0, target.y1);
-    for_each_span(t, width, y0, y1, |y, xs, xe| {
-        shaded += span::<K, PERSPECTIVE, VISIBLE>(t, kernel, tri, target, y, xs, xe, n);
-    });
+    for_each_span(
+        t,
+        width,
+        y0,
+        y1,
+        #[inline(always)]
+        |y, xs, xe| {
+            shaded += span::<K, PERSPECTIVE, VISIBLE>(t, kernel, tri, target, y, xs, xe, n);
+        },
+    );
     if K::LANES == 4 && !(VISIBLE && K::ACROSS_TRIANGLES) {
         target.pending.flush(kernel, tri, target.color);
     }
