@@ -36,13 +36,14 @@ pub const MAX_SMOOTH_LOBE_SHARPNESS: f32 = 1.0;
 
 /// Triangles covering less screen area than this (in pixels) are shaded per pixel with `phong`
 /// without trying a fit: the fit evaluates the exact model at ten points plus its bound checks
-/// (about 8 000 instructions), while `phong` shades four pixels at a time for about 250
-/// instructions a pixel, so below about 32 pixels the fit cannot pay for itself (the S1 bunny at
-/// 1080p averages about six pixels a triangle; there `fast-phong` costs 567 M instructions a
-/// frame with a limit of 12 pixels, 373 M with 32, against 333 M for `phong`, callgrind, one
-/// thread). Exact Phong is the more accurate of the two, so this only trades speed, and it is
-/// not counted as a fallback.
-pub const MIN_FIT_AREA_PX: f64 = 32.0;
+/// (about 12 800 instructions on S1), while `phong`'s by-pixel pass shades four pixels at a
+/// time for about 250 instructions a pixel, and only the visible part of a triangle is shaded.
+/// Measured with callgrind (one thread, instructions for two frames, `fast-phong` with this
+/// limit at 32 / 64 / 96 / 128 / 192 / 256 pixels): the S1 sphere at 1920x1080 647 / 592 / 551
+/// / 497 / 513 / 538 M (never fitting: 686 M; `phong` 671 M), the S1 bunny 621 / 587 / - / 585
+/// M, the default scene at 1280x720 488 M at 32 and 463 M at 128. Exact Phong is the more
+/// accurate of the two, so this only trades speed, and it is not counted as a fallback.
+pub const MIN_FIT_AREA_PX: f64 = 128.0;
 
 /// The fast Phong mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
