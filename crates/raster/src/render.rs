@@ -341,7 +341,7 @@ fn run<M: Mode>(
         },
     );
     // Whole screen vertices only for modes that read them (see `Mode::READS_SCREEN`).
-    let screen: Vec<Option<ScreenVertex>> = if M::READS_SCREEN {
+    let screen: Vec<Option<ScreenVertex>> = if M::READS_SCREEN && !M::SCREEN_PER_TRIANGLE {
         map_indices(opts.threads, verts.len(), 4096, |i| {
             screen_vertex(&clip_vertex(i))
         })
@@ -380,6 +380,17 @@ fn run<M: Mode>(
                 if let Some((b0, b1)) = on_screen(p, rows) {
                     let tri = if let Some(tri) = mode.triangle_from_positions(&p) {
                         group.add_ready(tri, &mut tris)
+                    } else if M::READS_SCREEN && M::SCREEN_PER_TRIANGLE {
+                        let s = [i0, i1, i2].map(|i| screen_vertex(&clip_vertex(i)));
+                        let [Some(a), Some(b), Some(c)] = &s else {
+                            continue;
+                        };
+                        let v = if M::READS_VERTICES {
+                            [i0, i1, i2].map(|i| &verts[i].1)
+                        } else {
+                            [&NO_VERTEX; 3]
+                        };
+                        group.add_now(v, [a, b, c], &mut tris)
                     } else if M::READS_VERTICES || M::READS_SCREEN {
                         let s = if M::READS_SCREEN {
                             let (Some(a), Some(b), Some(c)) =

@@ -302,6 +302,8 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
         surface_attrs(v)
     }
     const READS_VERTICES: bool = false;
+    // Only triangles of MIN_FIT_AREA_PX or more get here: a few hundred on S1.
+    const SCREEN_PER_TRIANGLE: bool = true;
     #[inline]
     fn triangle_from_positions(&self, p: &[ScreenPos; 3]) -> Option<FastTri> {
         // The area first: most triangles of a dense mesh stop here, before their vertices

@@ -78,6 +78,10 @@ pub trait Mode: Sync {
     /// renderer keep a whole [`ScreenVertex`] per mesh vertex (over 100 bytes); the others get
     /// placeholders, and the bands read compact positions and attributes.
     const READS_SCREEN: bool = true;
+    /// With [`Mode::READS_SCREEN`]: build a triangle's screen vertices when it is handed to
+    /// [`Mode::triangle`] instead of once per mesh vertex, for modes that settle nearly every
+    /// triangle by [`Mode::triangle_from_positions`] (the same vertices, bit for bit).
+    const SCREEN_PER_TRIANGLE: bool = false;
     /// Whether the renderer gathers triangles to call [`Mode::triangle4`] (modes whose
     /// per-triangle data costs a lighting evaluation); others get [`Mode::triangle`] directly.
     const BATCH_TRIANGLES: bool = false;
