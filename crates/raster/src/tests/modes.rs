@@ -353,6 +353,56 @@ fn a_reused_framebuffer_gives_the_picture_of_a_fresh_one() {
     }
 }
 
+#[test]
+fn ids_left_by_an_earlier_frame_never_shade_a_pixel() {
+    // The two-pass modes keep each thread's id buffer from band job to band job (a fresh
+    // epoch in each job's ids keeps old ones from matching). A frame that
+    // covers the middle of the image leaves ids there; the next frame draws one mesh of two
+    // small spheres side by side, so the rows its depth pass writes span an empty gap between
+    // them. No pixel of that gap (nor any other left at the far depth) may be shaded.
+    let (sphere, set, mat) = (uv_sphere(1.0, 24, 12), s1_lights(), Material::s1());
+    let mut pair = TestMesh::default();
+    for dx in [-0.8f32, 0.8] {
+        let base = pair.positions.len() as u32;
+        let at = |p: Vec3| p * 0.3 + Vec3::new(dx, 0.0, 0.0);
+        pair.positions
+            .extend(sphere.positions.iter().map(|&p| at(p)));
+        pair.normals.extend(&sphere.normals);
+        pair.indices
+            .extend(sphere.indices.iter().map(|t| t.map(|i| i + base)));
+    }
+    let cam = Camera::s1();
+    // One thread: both frames run on this thread, with its id buffer.
+    let opts = RenderOptions {
+        threads: 1,
+        ..RenderOptions::default()
+    };
+    for mode in [
+        ShadingMode::Phong,
+        ShadingMode::FastPhong,
+        ShadingMode::Reference,
+    ] {
+        let cover = DrawItem {
+            model: Mat4::from_scale(Vec3::splat(1.2)),
+            ..item(&sphere, &mat, &set, mode)
+        };
+        let (_, covered) = draw_image(160, 120, &cam, &[cover], &opts);
+        assert!(
+            covered.pixels_shaded > 5_000,
+            "{mode}: the first frame covers the middle"
+        );
+        let (fb, stats) = draw_image(160, 120, &cam, &[item(&pair, &mat, &set, mode)], &opts);
+        assert!(stats.pixels_shaded > 200, "{mode}: both spheres drawn");
+        let gap = (fb.color().iter().zip(fb.depth()))
+            .filter(|(_, z)| **z == FAR_DEPTH)
+            .filter(|(c, _)| **c != Vec3::ZERO)
+            .count();
+        assert_eq!(gap, 0, "{mode}: {gap} background pixels shaded");
+        // The gap between the spheres is really inside the written rows.
+        assert_eq!(fb.depth()[60 * 160 + 80], FAR_DEPTH, "{mode}");
+    }
+}
+
 fn floor() -> TestMesh {
     // A big floor through and behind the camera: crosses the near plane.
     TestMesh {
