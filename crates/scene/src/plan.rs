@@ -40,11 +40,14 @@ use crate::components::{
 pub const AUTO_TOLERANCE: f32 = 1.0 / 255.0;
 
 /// `auto` picks `fast-phong` over `phong` only where an object's triangles cover at least this
-/// many pixels each on average (estimated, [`pixels_per_triangle`]): below it the per-triangle
-/// fit costs more than the per-pixel lighting it saves. Measured on S1's sphere at 1920x1080
-/// (`phosphor bench` on spheres of 32 to 256 segments): fast Phong is faster at about 500
-/// estimated pixels per triangle and more, slower at about 200 and less, on one and two threads.
-pub const FAST_PHONG_MIN_PIXELS: f32 = 300.0;
+/// many pixels each on average (estimated, [`pixels_per_triangle`]): below it fast Phong fits
+/// almost no triangle (it fits only those of `MIN_FIT_AREA_PX`, 128 px, or more, and shades
+/// the rest as `phong` does) and its per-triangle checks cost a few percent. Measured on S1's
+/// sphere at 1920x1080 with the spheres `auto` sends to this rule (128 to 256 segments), in
+/// instructions (callgrind, one thread, two frames; `phosphor bench SCENE --threads 1
+/// --frames 1`), fast-phong against phong: 497 against 671 M at 128 segments (est. 83 px per
+/// triangle), 675 against 763 M at 192 (37 px), 885 against 872 M at 256 (21 px).
+pub const FAST_PHONG_MIN_PIXELS: f32 = 32.0;
 
 /// Estimated screen pixels per front-facing triangle of an object with bounding sphere
 /// (`center`, `radius`) and `triangles` triangles, seen from `eye` with vertical field of view
