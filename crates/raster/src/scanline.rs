@@ -89,20 +89,21 @@ impl Pending {
         self.flush_with(|a, count| kernel.shade_lanes(tri, a, count), color);
     }
 
-    /// Queues pixel `idx` of the band with `attrs` times `w` (the perspective divide),
-    /// shading the group with `shade` once it holds four. Every lane is multiplied: kernels
-    /// read only their own attributes, and a fixed width compiles to a few vector multiplies
-    /// where a loop to the kernel's count did one lane at a time.
+    /// Queues pixel `idx` of the band with the first `l` of `attrs` times `w` (the
+    /// perspective divide), shading the group with `shade` once it holds four. `l` is a whole
+    /// number of vector widths ([`lanes`]) known when this is inlined: kernels read only their
+    /// own attributes, and a fixed width compiles to a few vector multiplies where a loop to
+    /// the kernel's count did one lane at a time.
     #[inline(always)]
     fn push(
         &mut self,
         idx: usize,
-        (attrs, w): (&Attrs, f32),
+        (attrs, w, l): (&Attrs, f32, usize),
         shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
         color: &mut [Vec3],
     ) {
         let slot = &mut self.attrs[self.len];
-        for k in 0..MAX_ATTRS {
+        for k in 0..l {
             slot[k] = attrs[k] * w;
         }
         self.idx[self.len] = idx;
@@ -266,6 +267,16 @@ fn for_each_span(t: &RasterTri, width: u32, y0: i64, y1: i64, mut row: impl FnMu
     }
 }
 
+/// The attribute lanes a kernel reading `n` attributes steps: `n` rounded up to whole
+/// four-lane vectors. Lanes past `n` hold values no kernel reads (from a plane set up for
+/// more attributes, or stale); stepping them costs nothing where a loop to `n` stepped one lane
+/// at a time. A compile-time constant per kernel.
+#[must_use]
+pub const fn lanes(n: usize) -> usize {
+    let l = n.div_ceil(4) * 4;
+    if l > MAX_ATTRS { MAX_ATTRS } else { l }
+}
+
 /// Largest box side (pixels) of a small triangle. Within its box and 16 columns beyond, an
 /// edge value is at most `|a| dx + |b| dy <= 2 ((SMALL_SIDE + STEP_WIDTH + 1) 256)^2 < 2^31`.
 const SMALL_SIDE: i64 = 64;
@@ -303,6 +314,19 @@ pub fn traverse<K: Kernel>(
     tri: &K::Tri,
     target: &mut BandTarget,
 ) -> u64 {
+    if t.n < K::ATTRS {
+        // Set up with fewer attributes than the kernel reads: the missing ones are zero. (The
+        // traversal steps the kernel's lanes whole, see `lanes`, whatever the plane holds past
+        // its own count.)
+        let mut padded = *t;
+        for k in t.n..MAX_ATTRS {
+            padded.attr0[k] = 0.0;
+            padded.attr_dx[k] = 0.0;
+            padded.attr_dy[k] = 0.0;
+        }
+        padded.n = K::ATTRS;
+        return traverse(&padded, kernel, tri, target);
+    }
     match (t.perspective, target.pass) {
         (true, Pass::Full) => traverse_impl::<K, true, false>(t, kernel, tri, target),
         (false, Pass::Full) => traverse_impl::<K, false, false>(t, kernel, tri, target),
@@ -433,20 +457,27 @@ impl ByPixel<'_> {
         color: &mut [Vec3],
         shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
     ) -> u64 {
-        if self.perspective {
-            self.run::<true>(color, shade4)
-        } else {
-            self.run::<false>(color, shade4)
+        // The lane count as a constant: the stepping and the divide compile to whole vectors.
+        match (self.perspective, lanes(self.n)) {
+            (true, 0) => self.run::<true, 0>(color, shade4),
+            (true, 4) => self.run::<true, 4>(color, shade4),
+            (true, 8) => self.run::<true, 8>(color, shade4),
+            (true, _) => self.run::<true, MAX_ATTRS>(color, shade4),
+            (false, 0) => self.run::<false, 0>(color, shade4),
+            (false, 4) => self.run::<false, 4>(color, shade4),
+            (false, 8) => self.run::<false, 8>(color, shade4),
+            (false, _) => self.run::<false, MAX_ATTRS>(color, shade4),
         }
     }
 
+    /// [`ByPixel::shade`] stepping `L` attribute lanes ([`lanes`] of `self.n`).
     #[inline(always)]
-    fn run<const PERSPECTIVE: bool>(
+    fn run<const PERSPECTIVE: bool, const L: usize>(
         &self,
         color: &mut [Vec3],
         shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
     ) -> u64 {
-        let (width, n) = (self.width as usize, self.n);
+        let width = self.width as usize;
         let mut shaded = 0;
         let mut pending = Pending::new();
         for (row, &(lo, hi)) in self.extents.iter().enumerate() {
@@ -472,13 +503,13 @@ impl ByPixel<'_> {
                     if PERSPECTIVE {
                         inv_w += p.inv_w[1];
                     }
-                    // Every lane, as in `Pending::push`.
-                    for k in 0..MAX_ATTRS {
+                    // Whole vectors, as in `Pending::push`.
+                    for k in 0..L {
                         attrs[k] += p.attr_dx[k];
                     }
                 } else {
                     let o = (x as f64 + 0.5 - p.origin.0, yc - p.origin.1);
-                    (inv_w, attrs) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, n);
+                    (inv_w, attrs) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
                     run = id;
                 }
                 next = x + 1;
@@ -487,7 +518,7 @@ impl ByPixel<'_> {
                 } else {
                     1.0
                 };
-                pending.push(base + x, (&attrs, w), &shade4, color);
+                pending.push(base + x, (&attrs, w, L), &shade4, color);
                 shaded += 1;
             }
         }
@@ -502,7 +533,6 @@ fn traverse_impl<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
     tri: &K::Tri,
     target: &mut BandTarget,
 ) -> u64 {
-    let n = K::ATTRS.min(t.n);
     let mut shaded = 0;
     let (width, y0, y1) = (target.width, target.y0, target.y1);
     for_each_span(
@@ -512,7 +542,7 @@ fn traverse_impl<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
         y1,
         #[inline(always)]
         |y, xs, xe| {
-            shaded += span::<K, PERSPECTIVE, VISIBLE>(t, kernel, tri, target, y, xs, xe, n);
+            shaded += span::<K, PERSPECTIVE, VISIBLE>(t, kernel, tri, target, y, xs, xe);
         },
     );
     if K::LANES == 4 && !(VISIBLE && K::ACROSS_TRIANGLES) {
@@ -521,10 +551,8 @@ fn traverse_impl<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
     shaded
 }
 
-#[allow(
-    clippy::too_many_arguments,
-    reason = "the hot loop's state, kept in registers"
-)]
+/// One span of `t` (set up with at least the kernel's attributes, see [`traverse`]): the
+/// kernel's attribute lanes are stepped whole ([`lanes`]).
 #[inline(always)]
 fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
     t: &RasterTri,
@@ -534,8 +562,8 @@ fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
     y: i64,
     x_start: i64,
     x_end: i64,
-    n: usize,
 ) -> u64 {
+    let n = lanes(K::ATTRS);
     // Span start: every plane evaluated once at the first pixel centre.
     let xc = x_start as f64 + 0.5;
     let yc = y as f64 + 0.5;
@@ -569,7 +597,9 @@ fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
             };
             if K::LANES == 4 {
                 let shade = |a: &[Attrs; 4], count| kernel.shade_lanes(tri, a, count);
-                target.pending.push(idx, (&attrs, w), shade, target.color);
+                target
+                    .pending
+                    .push(idx, (&attrs, w, n), shade, target.color);
             } else {
                 for k in 0..n {
                     out[k] = attrs[k] * w;

@@ -162,3 +162,30 @@ fn by_pixel_shading_reproduces_the_closed_form_of_the_nearest_triangle() {
         }
     }
 }
+
+#[test]
+fn attributes_a_triangle_was_not_set_up_with_read_as_zero() {
+    // The traversal steps a kernel's attribute lanes whole, whatever the planes hold past the
+    // set-up's count; a triangle set up with fewer attributes than the kernel reads must still
+    // hand it zeros there, not what an earlier set-up left in the planes.
+    let (w, h) = (24u32, 16u32);
+    let verts = [
+        vertex(2.0, 1.0, 0.75),
+        vertex(21.0, 4.5, 0.25),
+        vertex(6.0, 14.0, 0.5),
+    ];
+    let mut tri = RasterTri::new([&verts[0], &verts[1], &verts[2]], 1, false).unwrap();
+    assert!(tri.attr0[0] != 0.0 && tri.attr_dx[0] != 0.0);
+    // Set up again in place with no attributes: the old plane stays in the arrays.
+    let p = verts.map(|v| v.pos());
+    assert!(tri.set(p, [&[]; 3], 0, false));
+    assert_eq!(tri.n, 0);
+    let mut color = vec![Vec3::splat(-1.0); (w * h) as usize];
+    let mut depth = vec![1.0; (w * h) as usize];
+    let mut target = BandTarget::new(&mut color, &mut depth, w, 0, false);
+    let n = traverse(&tri, &Record, &(), &mut target);
+    assert!(n > 50);
+    let drawn: Vec<f32> = color.iter().map(|c| c.x).filter(|&c| c >= 0.0).collect();
+    assert_eq!(drawn.len() as u64, n);
+    assert!(drawn.iter().all(|&c| c == 0.0), "{drawn:?}");
+}
