@@ -260,6 +260,7 @@ struct Scratch {
 /// The screen positions and first `n` attributes of record `r`'s vertices: from `c`'s
 /// clipped vertices, or from the draw's per-vertex `pos` and `attrs` (`stride` per vertex);
 /// `None` when a vertex is missing or has no screen position.
+#[inline(always)]
 fn vertices_of<'a, T>(
     r: &TriRec,
     c: &'a Binned<T>,
