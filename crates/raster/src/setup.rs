@@ -95,6 +95,7 @@ pub fn first_row_at_or_below(fy: i64) -> i64 {
 
 /// Divide and viewport for a clip-space vertex; `None` when a coordinate is non-finite or
 /// outside the fixed-point range (clipping keeps this from happening for finite input).
+#[inline]
 #[must_use]
 pub fn to_screen(
     v: &ClipVertex,
