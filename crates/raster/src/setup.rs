@@ -3,7 +3,7 @@
 //! integer edge functions and the screen-space planes of depth, `1/w` and every attribute (what
 //! the traversal steps along).
 
-use phosphor_math::fixed::{SUBPIXEL_ONE, to_fixed};
+use phosphor_math::fixed::{SUBPIXEL_BITS, SUBPIXEL_ONE, to_fixed};
 
 use crate::clip::{Attrs, ClipVertex, MAX_ATTRS};
 
@@ -90,7 +90,10 @@ pub fn ceil_div(a: i64, b: i64) -> i64 {
 #[inline]
 #[must_use]
 pub fn first_row_at_or_below(fy: i64) -> i64 {
-    ceil_div(fy - HALF, SUBPIXEL_ONE)
+    // ceil(a / 2^k) = floor((a + 2^k - 1) / 2^k), and an arithmetic shift floors: the same
+    // value as `ceil_div(fy - HALF, SUBPIXEL_ONE)` without the remainder test (it runs four
+    // times per set-up). |fy| <= 2^28, so nothing overflows.
+    (fy - HALF + SUBPIXEL_ONE - 1) >> SUBPIXEL_BITS
 }
 
 /// Divide and viewport for a clip-space vertex; `None` when a coordinate is non-finite or
@@ -348,6 +351,16 @@ mod tests {
         assert_eq!(first_row_at_or_below(129), 1);
         assert_eq!(first_row_at_or_below(0), 0);
         assert_eq!(first_row_at_or_below(-300), -1);
+        // The shift equals the exact ceiling everywhere, negative values and the extremes
+        // of the fixed-point range included.
+        let limit = 1i64 << 28;
+        for fy in (-2000..2000).chain([-limit, -limit + 1, limit - 1, limit]) {
+            assert_eq!(
+                first_row_at_or_below(fy),
+                ceil_div(fy - HALF, SUBPIXEL_ONE),
+                "{fy}"
+            );
+        }
         assert_eq!(ceil_div(-5, 2), -2);
         assert_eq!(ceil_div(5, 2), 3);
     }
