@@ -16,7 +16,9 @@
 //!   `+0.0` and `x + y` is `-0.0` only when both are, and a `-0.0` lobe or cone factor only ever
 //!   ends up added to such a sum.
 //! * A light that the scalar code skips (`N.L <= 0`, or a zero normal's early return) leaves
-//!   the lane's sums untouched: the new sums are selected, never zeros added.
+//!   the lane's sums untouched: its term is masked to `+0.0` before the add, and a sum is
+//!   never `-0.0` (it starts at `+0.0`, and `+0.0 + -0.0` is `+0.0`), so adding `+0.0` returns
+//!   it bit for bit, NaN and infinity included.
 //! * Negation flips the sign bit (wide's `-x` is `0 - x`, which turns `-(+0)` into `+0`).
 //!
 //! Cost: the lights' constants are splatted once per light per call and the Phong lobe
@@ -227,6 +229,19 @@ fn min_c(x: f32x4, c: f32x4) -> f32x4 {
     }
 }
 
+/// Every bit set: a lane mask of all lanes.
+const ALL_ONES: f32x4 = f32x4::new([f32::from_bits(u32::MAX); 4]);
+
+/// `v` in the lanes set in `mask`, `+0.0` in the others: one AND per component. Adding it to
+/// a sum is exactly [`Vec3x4::select`] of the sum and the new sum, because the sums here start
+/// at `+0.0` and so are never `-0.0`, and `x + (+0.0)` is `x` for every other `x` (NaN
+/// payloads and infinities included), where a select costs three SSE2 operations per
+/// component.
+#[inline(always)]
+fn masked(mask: f32x4, v: Vec3x4) -> Vec3x4 {
+    Vec3x4::new(v.x & mask, v.y & mask, v.z & mask)
+}
+
 /// `-x` by flipping the sign bit (`-(+0) = -0`, unlike `0 - x`).
 #[inline(always)]
 fn neg(x: f32x4) -> f32x4 {
@@ -432,13 +447,14 @@ impl Sums {
         if skip.all() {
             return;
         }
+        let keep = skip ^ ALL_ONES;
         if has(FX, Effects::DIFFUSE) {
             let term = Vec3x4::new(
                 (self.kd.x * n_dot_l) * il.x,
                 (self.kd.y * n_dot_l) * il.y,
                 (self.kd.z * n_dot_l) * il.z,
             );
-            self.diffuse = Vec3x4::select(skip, self.diffuse, self.diffuse + term);
+            self.diffuse = self.diffuse + masked(keep, term);
         }
         if has(FX, Effects::SPECULAR) {
             let base = match self.specular_model {
@@ -456,7 +472,7 @@ impl Sums {
                 (self.ks.y * w_lobe) * il_s.y,
                 (self.ks.z * w_lobe) * il_s.z,
             );
-            self.specular = Vec3x4::select(skip, self.specular, self.specular + term);
+            self.specular = self.specular + masked(keep, term);
         }
     }
 
