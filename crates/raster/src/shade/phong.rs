@@ -46,8 +46,9 @@ impl<const FX: u32, const BUMP: bool> Kernel for Phong<'_, FX, BUMP> {
     const ACROSS_TRIANGLES: bool = true;
     #[inline]
     fn shade_lanes(&self, _: &(), attrs: &[Attrs; 4], _: usize) -> [Vec3; 4] {
-        let p = attrs.map(|a| get3(&a, 0));
-        let mut n = attrs.map(|a| get3(&a, 3));
+        // By reference: `attrs.map` would copy each 48-byte attribute set first.
+        let p: [Vec3; 4] = std::array::from_fn(|k| get3(&attrs[k], 0));
+        let mut n: [Vec3; 4] = std::array::from_fn(|k| get3(&attrs[k], 3));
         if BUMP {
             if let Some(map) = self.bump {
                 for (n, a) in n.iter_mut().zip(attrs) {
