@@ -46,7 +46,19 @@ impl<const FX: u32, const BUMP: bool> Kernel for Phong<'_, FX, BUMP> {
     const ACROSS_TRIANGLES: bool = true;
     #[inline]
     fn shade_lanes(&self, _: &(), attrs: &[Attrs; 4], _: usize) -> [Vec3; 4] {
-        if !BUMP {
+        let (p, n) = if BUMP {
+            // By reference: `attrs.map` would copy each 48-byte attribute set first.
+            let p: [Vec3; 4] = std::array::from_fn(|k| get3(&attrs[k], 0));
+            let mut n: [Vec3; 4] = std::array::from_fn(|k| get3(&attrs[k], 3));
+            if let Some(map) = self.bump {
+                for (n, a) in n.iter_mut().zip(attrs) {
+                    let uv = Vec2::new(a[6], a[7]);
+                    let t = Vec4::new(a[8], a[9], a[10], a[11]);
+                    *n = map.perturb(*n, t, uv);
+                }
+            }
+            (Vec3x4::from_array(p), Vec3x4::from_array(n))
+        } else {
             // Position and normal are lanes 0..6 of each pixel's set: two 4x4 transposes
             // (eight shuffles each) turn the four sets into the lanes of `shade_x4`, where
             // gathering them one float at a time took 48 scalar moves.
@@ -56,36 +68,10 @@ impl<const FX: u32, const BUMP: bool> Kernel for Phong<'_, FX, BUMP> {
             };
             let [px, py, pz, nx] = f32x4::transpose([row(0, 0), row(1, 0), row(2, 0), row(3, 0)]);
             let [ny, nz, _, _] = f32x4::transpose([row(0, 4), row(1, 4), row(2, 4), row(3, 4)]);
-            return shade_x4::<FX>(
-                self.lit.set,
-                &self.lit.mat,
-                Vec3x4::new(px, py, pz),
-                Vec3x4::new(nx, ny, nz),
-                self.lit.eye,
-            )
-            .to_array();
-        }
-        // By reference: `attrs.map` would copy each 48-byte attribute set first.
-        let p: [Vec3; 4] = std::array::from_fn(|k| get3(&attrs[k], 0));
-        let mut n: [Vec3; 4] = std::array::from_fn(|k| get3(&attrs[k], 3));
-        if BUMP {
-            if let Some(map) = self.bump {
-                for (n, a) in n.iter_mut().zip(attrs) {
-                    let uv = Vec2::new(a[6], a[7]);
-                    let t = Vec4::new(a[8], a[9], a[10], a[11]);
-                    *n = map.perturb(*n, t, uv);
-                }
-            }
-        }
+            (Vec3x4::new(px, py, pz), Vec3x4::new(nx, ny, nz))
+        };
         // Bit for bit `shade` in every lane.
-        shade_x4::<FX>(
-            self.lit.set,
-            &self.lit.mat,
-            Vec3x4::from_array(p),
-            Vec3x4::from_array(n),
-            self.lit.eye,
-        )
-        .to_array()
+        shade_x4::<FX>(self.lit.set, &self.lit.mat, p, n, self.lit.eye).to_array()
     }
 }
 
