@@ -74,7 +74,17 @@ impl Scene {
     /// # Errors
     /// The mesh's error (file and line).
     pub fn s1_with_mesh(path: &Path) -> Result<Scene, SceneError> {
-        let normals = NormalOptions::s1();
+        Scene::s1_lights_with_mesh(path, NormalOptions::s1())
+    }
+
+    /// S1's lights, material and settings around the OBJ mesh at `path` (normalized), with
+    /// normals built as `normals` says instead of S1's: what `--mesh` shows, where a cube
+    /// should keep its edges. The camera is still S1's; callers frame the mesh themselves
+    /// (see [`crate::view::framed_camera`]).
+    ///
+    /// # Errors
+    /// The mesh's error (file and line).
+    pub fn s1_lights_with_mesh(path: &Path, normals: NormalOptions) -> Result<Scene, SceneError> {
         let (mut mesh, warnings) =
             phosphor_mesh::load_obj_with_warnings(path, &normals).map_err(|source| {
                 SceneError::Mesh {

@@ -58,6 +58,7 @@ pub mod error;
 pub mod file;
 pub mod plan;
 pub mod render;
+pub mod view;
 
 pub use components::{
     Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, Primitive,
