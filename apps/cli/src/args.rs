@@ -7,6 +7,9 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::frames::{FrameRange, parse_frame_range};
+use crate::view::{CameraArgs, NormalArgs};
+
 /// Largest accepted image side, in pixels (a 16k x 16k f32 framebuffer is already 3 GiB).
 pub const MAX_SIDE: u32 = 16_384;
 
@@ -29,7 +32,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (or a mesh in the standard scene S1) to a PNG or EXR file.
     #[command(
-        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render scene.toml --plan               (print the frame plan only)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear) or .exr (linear f32).\nThe file is written atomically: on any error an existing file is left untouched."
+        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render scene.toml --plan               (print the frame plan only)\n  phosphor render --mesh cube.obj --azimuth 45 --elevation 30 -o cube.png\n  phosphor render scene.toml --eye 4,2,4 --target 0,0.5,0 --fov 35 -o view.png\n  phosphor render scene.toml --turntable 36 -o out/frame_%04d.png\n  phosphor render scene.toml --turntable 36 --frames 0..18 -o out/frame_%04d.png   (first half)\n  phosphor render scene.toml -o - > frame.png     (one PNG on standard output)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear) or .exr (linear f32).\nThe file is written atomically: on any error an existing file is left untouched."
     )]
     Render(RenderArgs),
     /// Render in every mode, compare each with `reference`, and print a table of errors and times.
@@ -53,9 +56,13 @@ pub struct SceneSource {
     /// Scene file (TOML); the embedded default scene when absent.
     #[arg(value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
-    /// Render this OBJ mesh in the standard scene S1 (instead of a scene file).
+    /// Render this OBJ mesh under S1's lights and material (instead of a scene file), framed
+    /// to fit the view from a three-quarter angle (azimuth 30, elevation 20).
     #[arg(long, value_name = "FILE.obj", conflicts_with = "scene")]
     pub mesh: Option<PathBuf>,
+    /// How `--mesh`'s normals are built.
+    #[command(flatten)]
+    pub normals: NormalArgs,
 }
 
 /// A shading choice on the command line: one of the modes, or `auto`.
@@ -155,14 +162,26 @@ pub struct RenderArgs {
     /// Print the frame plan (per object: mode, effects simulated, lights kept) to stdout.
     #[arg(long)]
     pub plan: bool,
-    /// Output image, .png or .exr (may be left out with --plan).
+    /// Render N frames turning the camera about its up axis through its target: frame k at
+    /// 360*k/N degrees from the scene's camera (after the camera flags).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub turntable: Option<u32>,
+    /// With --turntable, only these frames: A..B (half-open, B not included), A..=B
+    /// (inclusive) or K (one frame). Frame numbers and file names are those of the whole turntable.
+    #[arg(long, value_name = "A..B", value_parser = parse_frame_range, requires = "turntable")]
+    pub frames: Option<FrameRange>,
+    /// Output image, .png or .exr (may be left out with --plan); `-` writes one PNG frame to
+    /// standard output. Several frames need a printf-style frame number: out/frame_%04d.png.
     #[arg(
         short,
         long,
-        value_name = "OUT.png|OUT.exr",
+        value_name = "OUT.png|OUT.exr|-",
         required_unless_present = "plan"
     )]
     pub output: Option<PathBuf>,
+    /// Camera flags.
+    #[command(flatten)]
+    pub camera: CameraArgs,
 }
 
 /// `phosphor accuracy`.
@@ -180,6 +199,9 @@ pub struct AccuracyArgs {
     /// Frames timed per mode (the median is reported).
     #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,
+    /// Camera flags.
+    #[command(flatten)]
+    pub camera: CameraArgs,
 }
 
 /// `phosphor info`.
@@ -208,6 +230,9 @@ pub struct BenchArgs {
     /// Timed frames per mode (after one untimed warm-up frame).
     #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,
+    /// Camera flags.
+    #[command(flatten)]
+    pub camera: CameraArgs,
 }
 
 #[cfg(test)]

@@ -2,11 +2,17 @@
 //!
 //! ```text
 //! phosphor render [SCENE.toml] [--mesh FILE.obj] [--shading MODE] [--size WxH] [--threads N]
-//!                 [--encoding srgb|linear] [--plan] -o OUT.png|OUT.exr
+//!                 [--encoding srgb|linear] [--plan] [--turntable N [--frames A..B]]
+//!                 -o OUT.png|OUT.exr|OUT_%04d.png|-
 //! phosphor accuracy [SCENE.toml] [--mesh FILE.obj] [--size WxH] [--out-dir DIR]
 //! phosphor info FILE.obj
 //! phosphor bench [SCENE.toml] [--mesh FILE.obj] [--shading MODE|all] [--size WxH] [--threads N] [--frames N]
 //! ```
+//!
+//! `render`, `accuracy` and `bench` also take the camera flags `--eye X,Y,Z --target X,Y,Z
+//! --up X,Y,Z --fov DEG` or the orbit form `--azimuth DEG --elevation DEG --distance D`, and,
+//! with `--mesh`, the normal flags `--crease-angle DEG --normals file|computed
+//! --weighting uniform|area|angle --no-smoothing-groups --split-by-material`.
 //!
 //! Errors are one line on stderr, `error: FILE:LINE: what` or `error: FILE: FIELD: what` (the
 //! libraries' error messages already name the file and line or field). Exit codes: 0 success,
@@ -28,7 +34,9 @@ mod accuracy;
 mod args;
 mod commands;
 mod font;
+mod frames;
 mod plot;
+mod view;
 
 use std::process::ExitCode;
 

@@ -17,8 +17,8 @@ use phosphor_math::glam::Vec3;
 use phosphor_raster::{Framebuffer, ShadingMode};
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
 
+use super::framebuffer;
 use super::render::write_image;
-use super::{frame_size, framebuffer, load_source};
 use crate::CliError;
 use crate::accuracy::{ErrorStats, Rgb8Image, compare, heat_map, median, with_scale_labels};
 use crate::args::AccuracyArgs;
@@ -146,7 +146,7 @@ fn write_rgb8(out: &Path, img: &Rgb8Image) -> Result<(), CliError> {
 fn scene_name(args: &AccuracyArgs) -> String {
     match (&args.source.scene, &args.source.mesh) {
         (Some(path), _) => path.display().to_string(),
-        (None, Some(mesh)) => format!("{} in S1", mesh.display()),
+        (None, Some(mesh)) => format!("{} under S1's lights", mesh.display()),
         (None, None) => "the default scene".to_owned(),
     }
 }
@@ -197,8 +197,7 @@ fn print_table(rows: &[Measured], gouraud_ms: f64) {
 
 /// Runs `phosphor accuracy`.
 pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
-    let scene = load_source(&args.source)?;
-    let (width, height) = frame_size(&scene, args.size);
+    let (scene, width, height) = crate::view::prepare(&args.source, &args.camera, args.size)?;
     let out_dir: Option<PathBuf> = args.out_dir.clone();
     if let Some(dir) = &out_dir {
         std::fs::create_dir_all(dir)

@@ -7,7 +7,7 @@ use std::time::Instant;
 use phosphor_raster::ShadingMode;
 use phosphor_scene::{FrameOptions, ShadingChoice, render_frame};
 
-use super::{frame_size, framebuffer, load_source};
+use super::framebuffer;
 use crate::CliError;
 use crate::accuracy::median;
 use crate::args::{BenchArgs, BenchMode};
@@ -31,8 +31,7 @@ fn choices(mode: BenchMode) -> Vec<ShadingChoice> {
 
 /// Runs `phosphor bench`.
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
-    let scene = load_source(&args.source)?;
-    let (width, height) = frame_size(&scene, args.size);
+    let (scene, width, height) = crate::view::prepare(&args.source, &args.camera, args.size)?;
     let mut fb = framebuffer(width, height)?;
     for choice in choices(args.shading) {
         let opts = FrameOptions {

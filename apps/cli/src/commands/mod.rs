@@ -12,12 +12,15 @@ use phosphor_scene::{Scene, ShadingChoice};
 use crate::CliError;
 use crate::args::{ModeArg, SceneSource, Size};
 
-/// Loads the scene a command names: a scene file, a mesh in S1, or the embedded default.
-/// Warnings (missing MTL, ignored bump maps) go to stderr, one line each.
+/// Loads the scene a command names: a scene file, a mesh under S1's lights (normals as the
+/// `--mesh` flags say), or the embedded default. Warnings (missing MTL, ignored bump maps) go to
+/// stderr, one line each.
 pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
     let scene = match (&source.scene, &source.mesh) {
         (Some(path), _) => Scene::load(path),
-        (None, Some(mesh)) => Scene::s1_with_mesh(mesh),
+        (None, Some(mesh)) => {
+            Scene::s1_lights_with_mesh(mesh, crate::view::normal_options(&source.normals, true)?)
+        }
         (None, None) => Scene::default_scene(),
     }
     .map_err(|e| CliError::Input(e.to_string()))?;

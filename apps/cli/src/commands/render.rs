@@ -1,4 +1,5 @@
-//! `phosphor render`: one frame of a scene to a PNG or EXR file, written atomically.
+//! `phosphor render`: frames of a scene to PNG or EXR files, each written atomically, or one
+//! PNG to standard output.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -7,11 +8,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use phosphor_raster::{Encoding, Framebuffer};
+use phosphor_scene::view::turntable_camera;
 use phosphor_scene::{FrameOptions, render_frame};
 
-use super::{frame_size, framebuffer, load_source, shading_choice};
+use super::{framebuffer, shading_choice};
 use crate::CliError;
 use crate::args::{EncodingArg, RenderArgs};
+use crate::frames::{Output, frames_to_render, output_for, write_png_to_stdout};
+use crate::view::prepare;
 
 /// The output format, from the extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -103,61 +107,83 @@ impl Progress {
     }
 }
 
-/// Runs `phosphor render`.
+/// Runs `phosphor render`: one frame, or the frames of a turntable (see `crate::frames`).
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
-    // Check the output's extension before any work, so a usage error is immediate.
-    if let Some(out) = &args.output {
-        format_of(out)?;
+    // Check the frames and the output before any work, so a usage error is immediate.
+    let frames = frames_to_render(args.turntable, args.frames)?;
+    let output = output_for(args.output.as_deref(), frames.len(), args.plan)?;
+    if let Output::Files(pattern) = &output {
+        format_of(pattern.given())?;
     }
-    let scene = load_source(&args.source)?;
-    let (width, height) = frame_size(&scene, args.size);
+    let (mut scene, width, height) = prepare(&args.source, &args.camera, args.size)?;
     let opts = FrameOptions {
         shading: args.shading.map(shading_choice),
         threads: args.threads.unwrap_or(0),
         ..FrameOptions::default()
-    };
-    let mut fb = framebuffer(width, height)?;
-    let progress = Progress::start(format!("rendering {width}x{height}"));
-    let start = Instant::now();
-    let report = render_frame(&scene, &mut fb, &opts);
-    let elapsed = start.elapsed();
-    progress.finish();
-    if args.plan {
-        say!("{}", report.plan.to_string().trim_end());
-        say!(
-            "plan time: {:.3} ms, raster time: {:.3} ms",
-            report.plan_time.as_secs_f64() * 1e3,
-            report.raster_time.as_secs_f64() * 1e3
-        );
-    }
-    let Some(out) = &args.output else {
-        return Ok(());
     };
     let encoding = match args.encoding {
         Some(EncodingArg::Srgb) => Encoding::Srgb,
         Some(EncodingArg::Linear) => Encoding::Linear,
         None => scene.settings.encoding,
     };
-    write_image(&fb, out, encoding)?;
-    let s = report.stats;
-    say!(
-        "rendered {} in {:.1} ms: {width}x{height}, {} of {} triangles drawn, {} pixels shaded{}",
-        out.display(),
-        elapsed.as_secs_f64() * 1e3,
-        s.triangles_drawn,
-        s.triangles_in,
-        s.pixels_shaded,
-        if s.fallbacks > 0 {
-            format!(", {} fast-phong fallbacks", s.fallbacks)
-        } else {
-            String::new()
+    let mut fb = framebuffer(width, height)?;
+    let home = scene.camera();
+    for &frame in &frames {
+        let label = match args.turntable {
+            Some(n) => {
+                scene.set_camera(turntable_camera(&home, frame, n));
+                format!("rendering frame {frame} of {n}, {width}x{height}")
+            }
+            None => format!("rendering {width}x{height}"),
+        };
+        let progress = Progress::start(label);
+        let start = Instant::now();
+        let report = render_frame(&scene, &mut fb, &opts);
+        let elapsed = start.elapsed();
+        progress.finish();
+        if args.plan {
+            say!("{}", report.plan.to_string().trim_end());
+            say!(
+                "plan time: {:.3} ms, raster time: {:.3} ms",
+                report.plan_time.as_secs_f64() * 1e3,
+                report.raster_time.as_secs_f64() * 1e3
+            );
         }
-    );
-    if s.bump_ignored > 0 {
-        eprintln!(
-            "warning: bump mapping ignored on {} object(s): flat and gouraud shade per triangle or vertex",
-            s.bump_ignored
-        );
+        let out = match &output {
+            Output::None => continue,
+            Output::Stdout => {
+                // Standard output holds the image and nothing else.
+                write_png_to_stdout(&fb, encoding)?;
+                None
+            }
+            Output::Files(pattern) => {
+                let out = pattern.path(frame);
+                write_image(&fb, &out, encoding)?;
+                Some(out)
+            }
+        };
+        let s = report.stats;
+        if let Some(out) = out {
+            say!(
+                "rendered {} in {:.1} ms: {width}x{height}, {} of {} triangles drawn, {} pixels shaded{}",
+                out.display(),
+                elapsed.as_secs_f64() * 1e3,
+                s.triangles_drawn,
+                s.triangles_in,
+                s.pixels_shaded,
+                if s.fallbacks > 0 {
+                    format!(", {} fast-phong fallbacks", s.fallbacks)
+                } else {
+                    String::new()
+                }
+            );
+        }
+        if s.bump_ignored > 0 {
+            eprintln!(
+                "warning: bump mapping ignored on {} object(s): flat and gouraud shade per triangle or vertex",
+                s.bump_ignored
+            );
+        }
     }
     Ok(())
 }
