@@ -32,6 +32,8 @@ phosphor-viewer keys:
   B                    toggle bump mapping
   P                    toggle perspective-correct interpolation
   R                    reset the view
+  C                    print the camera as a scene file's [camera] block (paste it into a scene)
+  S                    save a screenshot (PNG) beside the scene file (current folder for --mesh)
   H                    print this list
   Esc, Q               quit";
 
@@ -73,6 +75,10 @@ pub enum Action {
     TogglePerspective,
     /// Back to the scene's camera.
     ResetView,
+    /// Print the current camera as a scene file's `[camera]` block.
+    PrintCamera,
+    /// Save the last frame as a PNG beside the scene file.
+    Screenshot,
     /// Print the key list.
     Help,
     /// Close the viewer.
@@ -117,6 +123,8 @@ pub fn key_action(code: KeyCode, shift: bool) -> Option<Action> {
         KeyCode::KeyB => Some(Action::ToggleBump),
         KeyCode::KeyP => Some(Action::TogglePerspective),
         KeyCode::KeyR => Some(Action::ResetView),
+        KeyCode::KeyC => Some(Action::PrintCamera),
+        KeyCode::KeyS => Some(Action::Screenshot),
         KeyCode::KeyH => Some(Action::Help),
         KeyCode::Escape | KeyCode::KeyQ => Some(Action::Quit),
         _ => None,
@@ -367,6 +375,14 @@ mod tests {
         assert_eq!(key_action(KeyCode::F8, false), Some(Action::ToggleLight(7)));
         assert_eq!(key_action(KeyCode::Digit9, false), None);
         assert_eq!(key_action(KeyCode::KeyB, false), Some(Action::ToggleBump));
+    }
+
+    #[test]
+    fn c_prints_the_camera_and_s_saves_a_screenshot_and_both_are_listed() {
+        assert_eq!(key_action(KeyCode::KeyC, false), Some(Action::PrintCamera));
+        assert_eq!(key_action(KeyCode::KeyS, false), Some(Action::Screenshot));
+        let listed = |key: &str| KEY_HELP.lines().any(|l| l.trim_start().starts_with(key));
+        assert!(listed("C ") && listed("S "), "{KEY_HELP}");
     }
 
     #[test]

@@ -2,12 +2,18 @@
 //!
 //! ```text
 //! phosphor-viewer [SCENE.toml] [--mesh FILE.obj] [--size WxH] [--shading MODE] [--frames N --screenshot FILE.png]
+//!                 [--eye X,Y,Z --target X,Y,Z --up X,Y,Z --fov DEG | --azimuth DEG --elevation DEG --distance D]
+//!                 [--crease-angle DEG --normals file|computed --weighting uniform|area|angle]
 //! ```
+//!
+//! `C` prints the current camera as a `[camera]` block for a scene file; `S` saves a screenshot
+//! beside the scene file. The camera and normal flags live in `view.rs`.
 //!
 //! This file is about rendering: what is drawn and how the title describes it. The window
 //! plumbing lives in `window.rs`, the camera and key table in `input.rs`.
 
 mod input;
+mod view;
 mod window;
 
 use std::path::{Path, PathBuf};
@@ -17,6 +23,7 @@ use std::time::Instant;
 use clap::Parser;
 use phosphor_lighting::Light;
 use phosphor_raster::{Camera, Encoding, Framebuffer, ShadingMode};
+use phosphor_scene::view::camera_toml;
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
 
 use crate::input::{Action, KEY_HELP, ModeKey, OrbitCamera};
@@ -33,12 +40,13 @@ const MAX_SIDE: u32 = 16_384;
     name = "phosphor-viewer",
     version,
     about = "Real-time viewer for Phosphor scenes (CPU scan-line rasterizer)",
-    after_help = "Examples:\n  phosphor-viewer\n  phosphor-viewer assets/scenes/s1.toml\n  phosphor-viewer --mesh assets/meshes/teapot.obj --size 1280x720\n  phosphor-viewer --frames 10 --screenshot shot.png\n  phosphor-viewer assets/scenes/s1.toml --shading phong --size 1280x720 --frames 100\n\nIn --frames mode the viewer prints `frames=N mean_ms=X fps=Y triangles=T` when it exits.\nPress H in the window for the key list."
+    after_help = "Examples:\n  phosphor-viewer\n  phosphor-viewer assets/scenes/s1.toml\n  phosphor-viewer --mesh assets/meshes/teapot.obj --size 1280x720\n  phosphor-viewer --frames 10 --screenshot shot.png\n  phosphor-viewer assets/scenes/s1.toml --shading phong --size 1280x720 --frames 100\n  phosphor-viewer --mesh cube.obj --azimuth 45 --elevation 30\n  phosphor-viewer assets/scenes/s1.toml --eye 2,1,3 --fov 30\n\nKeys: C prints the camera as a [camera] block for a scene file, S saves a screenshot beside it.\nIn --frames mode the viewer prints `frames=N mean_ms=X fps=Y triangles=T` when it exits.\nPress H in the window for the key list."
 )]
 struct Args {
     /// Scene file (TOML); the embedded default scene when absent.
     scene: Option<PathBuf>,
-    /// Show this OBJ mesh in the standard scene S1 instead of a scene file.
+    /// Show this OBJ mesh under S1's lights and material instead of a scene file, framed to fit
+    /// the window from a three-quarter angle (azimuth 30, elevation 20).
     #[arg(long, value_name = "FILE.obj", conflicts_with = "scene")]
     mesh: Option<PathBuf>,
     /// Window inner size in physical pixels.
@@ -53,6 +61,12 @@ struct Args {
     /// Write the last frame as PNG before exiting (after --frames frames, default 1).
     #[arg(long, value_name = "FILE.png")]
     screenshot: Option<PathBuf>,
+    /// Camera flags.
+    #[command(flatten)]
+    camera: view::CameraArgs,
+    /// Normal flags of --mesh.
+    #[command(flatten)]
+    normals: view::NormalArgs,
 }
 
 /// Parses a shading name: `auto` or one of the modes.
@@ -91,6 +105,9 @@ const KEY_MODES: [ShadingMode; 5] = [
 /// framebuffer reused from frame to frame.
 struct Viewer {
     scene: Scene,
+    /// The scene file and the mesh named on the command line, to name screenshots after.
+    scene_file: Option<PathBuf>,
+    mesh_file: Option<PathBuf>,
     /// The scene's own camera, for `R`.
     home: Camera,
     orbit: OrbitCamera,
@@ -110,6 +127,8 @@ impl Viewer {
     fn new(scene: Scene) -> Viewer {
         let home = scene.camera();
         Viewer {
+            scene_file: None,
+            mesh_file: None,
             orbit: OrbitCamera::new(home.eye, home.target, home.up),
             perspective_correct: scene.settings.perspective_correct,
             scene,
@@ -136,6 +155,11 @@ impl Viewer {
             far: self.home.far * zoom.max(1.0),
             ..self.home
         }
+    }
+
+    /// The current camera as a scene file's `[camera]` block (what the `C` key prints).
+    fn camera_block(&self) -> String {
+        camera_toml(&self.camera())
     }
 }
 
@@ -242,6 +266,21 @@ impl View for Viewer {
                 self.orbit = OrbitCamera::new(self.home.eye, self.home.target, self.home.up);
                 true
             }
+            Action::PrintCamera => {
+                print!("{}", self.camera_block());
+                false
+            }
+            Action::Screenshot => {
+                let saved =
+                    view::screenshot_path(self.scene_file.as_deref(), self.mesh_file.as_deref())
+                        .ok_or_else(|| "999 screenshots already beside the scene".to_owned())
+                        .and_then(|path| self.save_screenshot(&path).map(|()| path));
+                match saved {
+                    Ok(path) => println!("saved {}", path.display()),
+                    Err(e) => eprintln!("warning: screenshot not saved: {e}"),
+                }
+                false
+            }
             Action::Quit => false,
         }
     }
@@ -253,11 +292,12 @@ impl View for Viewer {
     }
 }
 
-/// The scene named on the command line, or the embedded default.
-fn load(args: &Args) -> Result<Scene, String> {
+/// The scene named on the command line (a `--mesh` under S1's lights, with the normals its
+/// flags ask for), or the embedded default.
+fn load(args: &Args, normals: phosphor_mesh::NormalOptions) -> Result<Scene, String> {
     let scene = match (&args.scene, &args.mesh) {
         (Some(p), _) => Scene::load(p),
-        (None, Some(m)) => Scene::s1_with_mesh(m),
+        (None, Some(m)) => Scene::s1_lights_with_mesh(m, normals),
         (None, None) => Scene::default_scene(),
     }
     .map_err(|e| e.to_string())?;
@@ -269,20 +309,38 @@ fn load(args: &Args) -> Result<Scene, String> {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    let scene = match load(&args) {
+    let usage = |e: String| {
+        eprintln!("error: {e}");
+        ExitCode::from(2)
+    };
+    let (change, normals) = match (
+        view::camera_override(&args.camera),
+        view::normal_options(&args.normals, args.mesh.is_some()),
+    ) {
+        (Ok(c), Ok(n)) => (c, n),
+        (Err(e), _) | (_, Err(e)) => return usage(e),
+    };
+    let mut scene = match load(&args, normals) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {}", e.lines().collect::<Vec<_>>().join(" "));
             return ExitCode::from(1);
         }
     };
+    let size = args.size.unwrap_or(DEFAULT_SIZE);
+    let frame_mesh = args.scene.is_none() && args.mesh.is_some();
+    if let Err(e) = view::set_camera(&mut scene, &change, frame_mesh, size) {
+        return usage(e);
+    }
     let mut viewer = Viewer::new(scene);
+    viewer.scene_file = args.scene.clone();
+    viewer.mesh_file = args.mesh.clone();
     viewer.shading = args.shading.filter(|s| *s != ShadingChoice::Auto);
     if args.frames.is_none() {
         println!("{KEY_HELP}");
     }
     let options = WindowOptions {
-        size: args.size.unwrap_or(DEFAULT_SIZE),
+        size,
         frames: args.frames.or(args.screenshot.as_ref().map(|_| 1)),
         screenshot: args.screenshot,
     };
@@ -310,5 +368,31 @@ fn main() -> ExitCode {
             eprintln!("error: {why}");
             ExitCode::from(1)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+
+    #[test]
+    fn the_printed_camera_block_loads_back_to_the_view_on_screen() {
+        let mut viewer = Viewer::new(Scene::default_scene().unwrap());
+        viewer.apply(
+            Action::Orbit {
+                dx: 37.0,
+                dy: -12.0,
+            },
+            540,
+        );
+        viewer.apply(Action::Zoom(2.5), 540);
+        viewer.apply(Action::Pan { dx: 5.0, dy: 3.0 }, 540);
+        let shown = viewer.camera();
+        assert_ne!(shown, viewer.home, "the view moved");
+        let block = viewer.camera_block();
+        let loaded = Scene::parse(&block, "pasted.toml").unwrap();
+        assert_eq!(loaded.camera(), shown, "{block}");
     }
 }
