@@ -205,6 +205,7 @@ fn phosphor_frame(s: &Scene, fb: &mut Framebuffer, mode: &str, threads: usize) {
             ShadingMode::Phong
         },
         bump: None,
+        cull_backfaces: false,
     };
     let opts = RenderOptions {
         threads,

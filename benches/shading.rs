@@ -79,6 +79,7 @@ impl Scene {
             effects: self.effects,
             mode,
             bump: None,
+            cull_backfaces: false,
         }
     }
 }

@@ -56,6 +56,21 @@ pub struct SceneSource {
     /// Render this OBJ mesh in the standard scene S1 (instead of a scene file).
     #[arg(long, value_name = "FILE.obj", conflicts_with = "scene")]
     pub mesh: Option<PathBuf>,
+    /// Back-face culling, overriding the scene's `cull_backfaces`: `auto` skips back faces
+    /// only where that cannot change a pixel (closed solids seen from outside).
+    #[arg(long, value_enum, value_name = "auto|always|never")]
+    pub cull: Option<CullArg>,
+}
+
+/// Back-face culling on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CullArg {
+    /// Only closed, outward-oriented meshes seen from outside (the same picture).
+    Auto,
+    /// Every object (open meshes show holes where their back is seen).
+    Always,
+    /// No object: both sides of every triangle are drawn.
+    Never,
 }
 
 /// A shading choice on the command line: one of the modes, or `auto`.
@@ -67,7 +82,7 @@ pub enum ModeArg {
     Gouraud,
     /// Per pixel with interpolated normals.
     Phong,
-    /// Bishop & Weimer's Taylor expansion, with a fallback to phong.
+    /// A quadratic fitted per large triangle, stepped by forward differences; else phong.
     FastPhong,
     /// Ground truth: per pixel in f64.
     Reference,
@@ -84,7 +99,7 @@ pub enum BenchMode {
     Gouraud,
     /// Per pixel with interpolated normals.
     Phong,
-    /// Bishop & Weimer's Taylor expansion, with a fallback to phong.
+    /// A quadratic fitted per large triangle, stepped by forward differences; else phong.
     FastPhong,
     /// Ground truth: per pixel in f64.
     Reference,

@@ -96,6 +96,7 @@ pub mod primitives;
 mod scan;
 pub mod stats;
 pub mod tangents;
+pub mod topology;
 pub mod triangulate;
 
 pub use build::TriangleSoup;
@@ -104,3 +105,4 @@ pub use loader::{load_obj, load_obj_with_warnings, parse_obj, parse_obj_with_war
 pub use mesh::{Mesh, MtlMaterial, fallback_tangent};
 pub use normals::{NormalOptions, NormalSource, Weighting, triangle_normal_f64};
 pub use stats::MeshStats;
+pub use topology::is_closed_solid;

@@ -255,6 +255,9 @@ pub struct MeshInfo {
     pub polyhedron: bool,
     /// Axis of a cone holding every vertex normal, when one narrower than 90 degrees exists.
     pub normal_cone: Option<(Vec3, f32)>,
+    /// The mesh bounds a solid: closed, consistently and outwardly oriented
+    /// ([`phosphor_mesh::is_closed_solid`]), so its back faces are hidden from outside.
+    pub closed: bool,
 }
 
 /// Angle between two unit vectors, robust near 0 and pi.
@@ -320,6 +323,7 @@ impl MeshInfo {
             typical_normal_spread: typical,
             polyhedron,
             normal_cone: normal_cone(&mesh.normals),
+            closed: phosphor_mesh::is_closed_solid(&mesh.positions, &mesh.indices),
         }
     }
 }

@@ -7,20 +7,27 @@ pub mod info;
 pub mod render;
 
 use phosphor_raster::ShadingMode;
-use phosphor_scene::{Scene, ShadingChoice};
+use phosphor_scene::{CullChoice, Scene, ShadingChoice};
 
 use crate::CliError;
-use crate::args::{ModeArg, SceneSource, Size};
+use crate::args::{CullArg, ModeArg, SceneSource, Size};
 
 /// Loads the scene a command names: a scene file, a mesh in S1, or the embedded default.
 /// Warnings (missing MTL, ignored bump maps) go to stderr, one line each.
 pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
-    let scene = match (&source.scene, &source.mesh) {
+    let mut scene = match (&source.scene, &source.mesh) {
         (Some(path), _) => Scene::load(path),
         (None, Some(mesh)) => Scene::s1_with_mesh(mesh),
         (None, None) => Scene::default_scene(),
     }
     .map_err(|e| CliError::Input(e.to_string()))?;
+    if let Some(cull) = source.cull {
+        scene.settings.cull_backfaces = match cull {
+            CullArg::Auto => CullChoice::Auto,
+            CullArg::Always => CullChoice::Always,
+            CullArg::Never => CullChoice::Never,
+        };
+    }
     for w in &scene.warnings {
         eprintln!("{w}");
     }

@@ -15,7 +15,7 @@ use crate::components::{
     SceneMesh, Shading, ShadingChoice, Transform,
 };
 use crate::error::SceneError;
-use crate::{RenderSettings, Scene};
+use crate::{CullChoice, RenderSettings, Scene};
 
 /// Reads the files a scene names (meshes, MTL, bump images): the disk, or embedded text.
 pub trait Files {
@@ -141,8 +141,17 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
     if let Some(p) = r.bool("perspective_correct")? {
         s.perspective_correct = p;
     }
-    if let Some(c) = r.bool("cull_backfaces")? {
-        s.cull_backfaces = c;
+    match r.get("cull_backfaces") {
+        None => {}
+        Some(toml::Value::Boolean(true)) => s.cull_backfaces = CullChoice::Always,
+        Some(toml::Value::Boolean(false)) => s.cull_backfaces = CullChoice::Never,
+        Some(toml::Value::String(v)) if v == "auto" => s.cull_backfaces = CullChoice::Auto,
+        Some(v) => {
+            return Err(r.error(
+                "cull_backfaces",
+                format!("expected true, false or \"auto\", got {v}"),
+            ));
+        }
     }
     r.finish(&[
         "width",
