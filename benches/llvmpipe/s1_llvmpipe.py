@@ -24,7 +24,8 @@ MODES = ("fill", "flat", "gouraud", "phong")
 # ------------------------------------------------------------------------------------------
 # S1's constants. The camera looks from +Z at the origin; the mesh is normalized into the unit
 # ball; intensity I = ka Ia + sum_i Il_i / (1 + d_i) (kd max(N.L, 0) + ks max(R.V, 0)^ns),
-# the specular term dropped where N.L <= 0, clamped to [0, 1] only when written.
+# the specular term dropped where N.L <= 0, clamped to [0, 1] when written (gouraud: at the
+# vertices).
 
 S1_EYE = (0.0, 0.0, 3.0)
 S1_FOV_Y_DEG = 45.0
@@ -104,7 +105,8 @@ out vec4 out_colour;
 void main() { out_colour = vec4(clamp(colour, 0.0, 1.0), 1.0); }
 """,
     ),
-    # Gouraud 1971: lit per vertex, intensities interpolated (perspective-correct).
+    # Gouraud 1971: lit per vertex, intensities interpolated (perspective-correct). Clamped at
+    # the vertex, as Phosphor does, so that what is interpolated is what can be displayed.
     "gouraud": (
         """#version 330
 uniform mat4 view_proj;
@@ -113,7 +115,7 @@ in vec3 in_normal;
 out vec3 colour;
 """ + S1_LIGHTING_GLSL + """
 void main() {
-    colour = s1_intensity(in_position, in_normal);
+    colour = min(s1_intensity(in_position, in_normal), vec3(1.0));
     gl_Position = view_proj * vec4(in_position, 1.0);
 }
 """,
