@@ -135,7 +135,12 @@ cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -n1)
 echo "# CPU: ${cpu:-unknown} ($(nproc) CPUs online)"
 echo "# $(grep -m1 '^# ' "$info" | sed 's/^# //; s/, LP_NUM_THREADS.*//')"
 grep '^warning:' "$info" | sort -u || true
-echo "# phosphor: $phosphor$([ ${#phosphor_cull[@]} -gt 0 ] && echo " (bench --cull auto)")"
+phosphor_note=""
+if [ "$cull" = 1 ]; then
+  phosphor_note=" (bench --cull auto)"
+  [ ${#phosphor_cull[@]} -gt 0 ] || phosphor_note=" (its bench has no --cull: it draws both sides)"
+fi
+echo "# phosphor: $phosphor$phosphor_note"
 echo "# S1 at $size, $threads threads, cull $([ "$cull" = 1 ] && echo on || echo off), $frames frames" \
   "per measurement, $rounds interleaved rounds; load average before: $load_before, after: $load_after"
 echo "# ms: median over the rounds of each round's median frame time [lowest-highest round]"
