@@ -1,17 +1,17 @@
-//! The seeds' specular-reflection coefficient `W(theta)` (Fresnel's laws), `theta` the angle of
-//! incidence, `cos theta = N.L`.
+//! The lecture notes' specular-reflection coefficient `W(theta)` (Fresnel's laws), `theta` the
+//! angle of incidence, `cos theta = N.L`.
 
 use crate::error::{LightingError, check_scalar};
 
 /// Glass-like reflectance at normal incidence: "at theta = 0 about 4 percent of the incident
-/// light on a glass surface is reflected" (seeds).
+/// light on a glass surface is reflected" (the lecture notes).
 pub const GLASS_F0: f32 = 0.04;
 
 /// How the specular coefficient varies with the angle of incidence.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Fresnel {
     /// `W = 1`: the material's `ks` is used as is ("for many opaque materials, specular
-    /// reflection is nearly constant for all incidence angles", seeds).
+    /// reflection is nearly constant for all incidence angles", the lecture notes).
     #[default]
     None,
     /// `W = w` for every angle (scales `ks`).
@@ -20,7 +20,7 @@ pub enum Fresnel {
         w: f32,
     },
     /// Schlick's approximation `W = f0 + (1 - f0)(1 - cos theta)^5`: `f0` at normal incidence,
-    /// rising to 1 at 90 degrees, as the seeds describe for glass ([`GLASS_F0`]).
+    /// rising to 1 at 90 degrees, as the lecture notes describe for glass ([`GLASS_F0`]).
     Schlick {
         /// Reflectance at normal incidence, in `[0, 1]`.
         f0: f32,
@@ -119,7 +119,7 @@ mod tests {
         let glass = Fresnel::Schlick { f0: GLASS_F0 };
         assert!((glass.w(1.0) - 0.04).abs() < 1e-7);
         assert!((glass.w(0.0) - 1.0).abs() < 1e-7);
-        // W(theta) increases with the angle of incidence (seeds).
+        // W(theta) increases with the angle of incidence (the lecture notes).
         let mut last = glass.w(1.0);
         for i in (0..100).rev() {
             let w = glass.w(i as f32 / 100.0);

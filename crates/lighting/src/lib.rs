@@ -1,6 +1,7 @@
-//! The classic illumination models as pure functions over plain data (the seeds' vocabulary:
-//! `I = Ka`, `I = Ia Ka`, Lambert `Kd Il (N.L)`, Phong `W(theta) Il (V.R)^ns` with
-//! `R = 2(N.L)N - L`, attenuation `1/(K+d)`, distributed light sources).
+//! The classic illumination models as pure functions over plain data (the lecture notes'
+//! vocabulary, docs/conventions.md: `I = Ka`, `I = Ia Ka`, Lambert `Kd Il (N.L)`, Phong 1975's
+//! `W(theta) Il (V.R)^ns` with `R = 2(N.L)N - L`, attenuation `1/(K+d)`, distributed light
+//! sources).
 //!
 //! The model, per RGB channel (x = r, y = g, z = b), all intensities linear:
 //!
@@ -21,8 +22,8 @@
 //! the normal with the attenuation factor capped at `1/MIN_ATTENUATION_DENOMINATOR`; results
 //! are clamped to `[0, f32::MAX]` by [`finite_intensity`].
 //!
-//! Attenuation: pick [`Attenuation::Offset`] (the seeds' `1/(K+d)`, S1 uses `K = 1`); the
-//! seeds found the physical `1/d^2` "produced too much contrast" ([`attenuation`] explains).
+//! Attenuation: pick [`Attenuation::Offset`] (the lecture notes' `1/(K+d)`, S1 uses `K = 1`);
+//! the notes found the physical `1/d^2` "produced too much contrast" ([`attenuation`] explains).
 //!
 //! Effects: `shade::<FX>` evaluates only the terms whose [`Effects`] bit is in `FX`; with the
 //! absent terms' coefficients zero (or their lights absent) it equals `shade::<{ALL}>`

@@ -1,4 +1,4 @@
-//! Surface optical properties: the seeds' `ka`, `kd`, `ks`, `n_s`, `W(theta)` and the
+//! Surface optical properties: the lecture notes' `ka`, `kd`, `ks`, `n_s`, `W(theta)` and the
 //! self-luminous intensity.
 
 use std::fmt;
@@ -13,7 +13,7 @@ use crate::fresnel::Fresnel;
 /// Which specular lobe a material uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SpecularModel {
-    /// Phong: `(V.R)^n_s` with `R = 2(N.L)N - L` (seeds).
+    /// Phong: `(V.R)^n_s` with `R = 2(N.L)N - L` (Phong 1975).
     #[default]
     Phong,
     /// Blinn: `(N.H)^n_s` with the half vector `H = (L + V)/|L + V|`.
@@ -61,11 +61,11 @@ impl FromStr for SpecularModel {
 /// give the documented bounds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Material {
-    /// Ambient-reflection coefficient `Ka` (seeds: `I = Ia Ka`).
+    /// Ambient-reflection coefficient `Ka` (the lecture notes' `I = Ia Ka`).
     pub ka: Vec3,
     /// Diffuse-reflection coefficient `Kd` (Lambert).
     pub kd: Vec3,
-    /// Specular-reflection coefficient `Ks` (the seeds' constant `W(theta)`).
+    /// Specular-reflection coefficient `Ks` (the lecture notes' constant in place of `W(theta)`).
     pub ks: Vec3,
     /// Specular-reflection parameter `n_s` (large: shiny; 1: dull; 0: no fall-off).
     pub shininess: f32,
@@ -73,7 +73,8 @@ pub struct Material {
     pub specular: SpecularModel,
     /// `W(theta)`: multiplies `ks` per angle of incidence.
     pub fresnel: Fresnel,
-    /// Self-luminous intensity added as is (seeds: `I = Ka` for "self-luminous objects").
+    /// Self-luminous intensity added as is (the lecture notes' `I = Ka` for "self-luminous
+    /// objects").
     pub emission: Vec3,
 }
 
@@ -217,7 +218,7 @@ mod tests {
     }
 
     #[test]
-    fn s1_material_has_the_design_values() {
+    fn s1_material_has_the_s1_values() {
         let m = Material::s1();
         assert_eq!(m.kd, Vec3::new(0.8, 0.6, 0.4));
         assert_eq!(m.shininess, 32.0);

@@ -26,7 +26,7 @@ fn embedded_default_scene_loads_with_every_kind_of_thing() {
 }
 
 #[test]
-fn shipped_s1_scene_matches_the_design() {
+fn shipped_s1_scene_matches_the_s1_definition() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/s1.toml");
     let s = Scene::load(&path).unwrap();
     assert_eq!(s.camera(), phosphor_raster::Camera::s1());
@@ -400,7 +400,7 @@ fn auto_mode(body: &str) -> (ShadingMode, String) {
 }
 
 #[test]
-fn auto_follows_the_seeds_conditions() {
+fn auto_follows_the_notes_flat_shading_conditions() {
     let sun = "[[lights]]\ntype = \"directional\"\ndirection = [-1, -1, -1]\nintensity = 1\n";
     let near = "[[lights]]\ntype = \"point\"\nposition = [1.5, 1.5, 1.5]\nintensity = 1\n";
     // A polyhedron, matte, under the sun: N.L is constant per face, so flat is exact.

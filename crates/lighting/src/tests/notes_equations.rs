@@ -1,4 +1,4 @@
-//! Hand-computed values of each seed equation, to 1e-6.
+//! Hand-computed values of each of the lecture notes' equations, to 1e-6.
 
 use glam::Vec3;
 
@@ -20,7 +20,7 @@ fn at_origin(set: &LightSet, m: &Material, eye: Vec3) -> Vec3 {
 
 #[test]
 fn self_luminous_intensity_is_ka_as_is() {
-    // seeds: I = Ka (self-luminous object, no light source).
+    // The lecture notes' I = Ka (self-luminous object, no light source).
     let m = material(0.0, 0.0, 0.0, 1.0)
         .with_emission(Vec3::new(0.3, 0.2, 0.1))
         .unwrap();
@@ -35,7 +35,7 @@ fn self_luminous_intensity_is_ka_as_is() {
 
 #[test]
 fn ambient_intensity_is_ia_times_ka() {
-    // seeds: I = Ia Ka, per channel: (0.5, 0.4, 1) * (0.2, 0.5, 0.1) = (0.1, 0.2, 0.1).
+    // The lecture notes' I = Ia Ka, per channel: (0.5, 0.4, 1) * (0.2, 0.5, 0.1) = (0.1, 0.2, 0.1).
     let m = Material::new(Vec3::new(0.2, 0.5, 0.1), Vec3::ZERO, Vec3::ZERO, 1.0).unwrap();
     let set = LightSet::new(Vec3::new(0.5, 0.4, 1.0), &[]);
     assert_close(
@@ -48,7 +48,7 @@ fn ambient_intensity_is_ia_times_ka() {
 
 #[test]
 fn lambert_diffuse_is_kd_il_n_dot_l() {
-    // seeds: I = Kd Il (N.L) = 0.5 * 2 * 0.8 = 0.8.
+    // The lecture notes' I = Kd Il (N.L) = 0.5 * 2 * 0.8 = 0.8.
     let set = LightSet::new(
         Vec3::ZERO,
         &[Light::point(LIGHT_POS, Vec3::splat(2.0)).unwrap()],
@@ -64,7 +64,7 @@ fn lambert_diffuse_is_kd_il_n_dot_l() {
 
 #[test]
 fn ambient_plus_diffuse_is_ka_ia_plus_kd_il_n_dot_l() {
-    // seeds: I = Ka Ia + Kd Il (N.L) = 0.1 * 0.5 + 0.5 * 2 * 0.8 = 0.85.
+    // The lecture notes' I = Ka Ia + Kd Il (N.L) = 0.1 * 0.5 + 0.5 * 2 * 0.8 = 0.85.
     let set = LightSet::new(
         Vec3::splat(0.5),
         &[Light::point(LIGHT_POS, Vec3::splat(2.0)).unwrap()],
@@ -80,7 +80,7 @@ fn ambient_plus_diffuse_is_ka_ia_plus_kd_il_n_dot_l() {
 
 #[test]
 fn reflection_vector_is_two_n_dot_l_n_minus_l() {
-    // seeds: R = (2 N.L) N - L = 1.6 (0, 0, 1) - (0.6, 0, 0.8) = (-0.6, 0, 0.8).
+    // The lecture notes' R = (2 N.L) N - L = 1.6 (0, 0, 1) - (0.6, 0, 0.8) = (-0.6, 0, 0.8).
     let r = phosphor_math::reflect(Vec3::Z, LIGHT_POS / 5.0);
     assert_close(r, Vec3::new(-0.6, 0.0, 0.8), TOL, "R");
 }
@@ -112,7 +112,7 @@ fn phong_specular_is_ks_il_v_dot_r_to_the_ns() {
 
 #[test]
 fn offset_attenuation_divides_by_k_plus_d() {
-    // seeds: I = Ia ka + Il [kd (n.s) + ks (v.r)^t] / (K + d), K = 1, d = 5:
+    // The lecture notes' I = Ia ka + Il [kd (n.s) + ks (v.r)^t] / (K + d), K = 1, d = 5:
     // 0.2 * 0.5 + 2 * [0.5 * 0.8 + 0.5 * 0.8^8] / 6.
     let light = Light::point(LIGHT_POS, Vec3::splat(2.0))
         .unwrap()
@@ -131,7 +131,7 @@ fn offset_attenuation_divides_by_k_plus_d() {
 
 #[test]
 fn several_lights_sum_their_reflected_intensities() {
-    // seeds: "the sum of the reflected light intensities must be used".
+    // The lecture notes' "the sum of the reflected light intensities must be used".
     let a = Light::point(LIGHT_POS, Vec3::splat(2.0)).unwrap();
     let b = Light::directional(-Vec3::Z, Vec3::new(1.0, 0.5, 0.0)).unwrap();
     let m = material(0.0, 0.5, 0.0, 1.0);
@@ -158,9 +158,9 @@ fn specular_intensity_can_differ_from_diffuse_as_opengl_allows() {
 }
 
 #[test]
-fn s1_front_point_matches_the_design_formula_by_hand() {
-    // DESIGN.md S1: I = ka Ia + sum Il (kd max(N.L,0) + ks max(R.V,0)^32) / (1 + d), at the
-    // front of the unit sphere p = N = (0,0,1), eye (0,0,3). Evaluated term by term in f64
+fn s1_front_point_matches_the_s1_formula_by_hand() {
+    // S1 (docs/conventions.md): I = ka Ia + sum Il (kd max(N.L,0) + ks max(R.V,0)^32) / (1 + d), at
+    // the front of the unit sphere p = N = (0,0,1), eye (0,0,3). Evaluated term by term in f64
     // outside this crate: (0.432668737, 0.349501553, 0.266334369).
     let i = shade::<ALL>(
         &LightSet::s1(),
