@@ -1,7 +1,63 @@
 //! The lecture notes' specular-reflection coefficient `W(theta)` (Fresnel's laws), `theta` the
-//! angle of incidence, `cos theta = N.L`.
+//! angle of incidence, `cos theta = N.L`, and how it enters the specular term ([`FresnelMode`]).
+//!
+//! The notes write the specular term `I_spec = W(theta) Il cos^ns phi`, with `W` the whole
+//! coefficient, and replace `W` by a constant `Ks` for materials whose reflectance does not
+//! depend on the angle. The shading code always evaluates `ks W(theta)`: under
+//! [`FresnelMode::Scale`] `ks` is the material's, under [`FresnelMode::Replace`] it is held at 1,
+//! so the coefficient is `1 W(theta) = W(theta)`, the notes' form. Both are tested against
+//! hand-computed values.
+
+use std::fmt;
+use std::str::FromStr;
 
 use crate::error::{LightingError, check_scalar};
+
+/// How `W(theta)` enters the specular coefficient.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FresnelMode {
+    /// `ks W(theta)`: `W` shapes the change of reflectance with the angle, `ks` sets its colour
+    /// and strength (a metal's tinted `ks` under Schlick's curve).
+    #[default]
+    Scale,
+    /// `W(theta)` alone, the lecture notes' `I_spec = W(theta) Il cos^ns phi`: the material's
+    /// `ks` must be 1 ([`crate::Material::with_fresnel_mode`] sets it), so `ks W = W`.
+    Replace,
+}
+
+impl FresnelMode {
+    /// The scene-file name: `"scale"` or `"replace"`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            FresnelMode::Scale => "scale",
+            FresnelMode::Replace => "replace",
+        }
+    }
+}
+
+impl fmt::Display for FresnelMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Parses the scene-file names `"scale"` and `"replace"` (ASCII case-insensitive).
+impl FromStr for FresnelMode {
+    type Err = LightingError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "scale" => Ok(FresnelMode::Scale),
+            "replace" => Ok(FresnelMode::Replace),
+            _ => Err(LightingError::UnknownName {
+                field: "fresnel.mode",
+                name: s.to_owned(),
+                expected: "\"scale\" or \"replace\"",
+            }),
+        }
+    }
+}
 
 /// Glass-like reflectance at normal incidence: "at theta = 0 about 4 percent of the incident
 /// light on a glass surface is reflected" (the lecture notes).

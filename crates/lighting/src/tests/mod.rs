@@ -3,8 +3,8 @@
 
 mod effects_equivalence;
 mod lights;
+mod notes_equations;
 mod numerics;
 mod properties;
-mod notes_equations;
 mod support;
 mod wide4;
