@@ -1,4 +1,5 @@
-//! The command line: every subcommand and flag of DESIGN.md's CLI contract, parsed by clap.
+//! The command line: every subcommand and flag of the CLI contract (README, docs/conventions.md),
+//! parsed by clap.
 //!
 //! Values are checked here (sizes, mode names, encodings) so that a bad value is a usage error
 //! (exit 2, clap's message) before any file is read.

@@ -138,7 +138,7 @@ fn on_s1_phong_is_closer_to_the_reference_than_gouraud() {
     let stdout = assert_report(&out, &dir);
     let phong = row(&stdout, "phong");
     let gouraud = row(&stdout, "gouraud");
-    // The seeds' claim: interpolating normals beats interpolating intensities.
+    // Phong 1975's claim: interpolating normals beats interpolating intensities.
     assert!(
         phong.rmse < gouraud.rmse,
         "phong {phong:?} vs gouraud {gouraud:?}"

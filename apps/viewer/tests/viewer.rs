@@ -1,5 +1,6 @@
-//! The viewer binary end to end. winit's event loop must run on the main thread, once per
-//! process, so these tests spawn `phosphor-viewer` rather than calling it (ECOSYSTEM.md 2.3).
+//! The viewer binary end to end. winit's event loop must run on the main thread, once per process,
+//! so these tests spawn `phosphor-viewer` rather than calling it (docs/conventions.md, "Dependency
+//! facts").
 
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};

@@ -27,9 +27,9 @@ pub struct TriangleSoup {
     pub smoothing_groups: Option<Vec<u32>>,
     /// Per triangle material id (empty = all 0).
     pub material_ids: Vec<u32>,
-    /// Per triangle: the source polygon it was triangulated from (empty = each triangle is its
-    /// own polygon). Uniform weighting counts a polygon once per vertex, as the seeds count
-    /// faces, and triangles of one polygon are always smoothed together.
+    /// Per triangle: the source polygon it was triangulated from (empty = each triangle is its own
+    /// polygon). Uniform weighting counts a polygon once per vertex, as the lecture notes' `N_v`
+    /// counts faces, and triangles of one polygon are always smoothed together.
     pub polygon_ids: Vec<u32>,
 }
 

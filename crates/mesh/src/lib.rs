@@ -1,6 +1,6 @@
 //! `phosphor-mesh`: triangle meshes for Phosphor. OBJ loading (through tobj, plus a light line
 //! scan for smoothing groups and line-numbered errors), face normals robust for slivers,
-//! vertex normals averaged only within a surface (seeds: `N_v = sum N_k / |sum N_k|`),
+//! vertex normals averaged only within a surface (the lecture notes' `N_v = sum N_k / |sum N_k|`),
 //! tangents, analytic primitives with exact normals, and a render order
 //! ([`Mesh::sort_spatially`]: triangles along a Morton curve, so neighbours in memory are
 //! neighbours in space). Knows nothing of light or pixels.
@@ -76,15 +76,15 @@
 //! | 512x256 | Area    | 1.56e-5 rad | 4.91e-5 rad |
 //! | 512x256 | Angle   | 3.05e-5 rad | 4.90e-5 rad |
 //!
-//! With no poles every vertex of the torus sees the same regular, mirror-symmetric fan, and
-//! uniform weighting (the seeds' formula) is the most accurate: its error is at the rounding of
-//! the f32 positions (it stops falling at 512x256, where edges are 7e-3 long). Area and angle
-//! weighting converge at second order (a quarter per doubling) but their max error stays 6 to 350 times larger;
-//! likely because the torus' quads are trapezoids (outer edge longer than inner), so area and
-//! angle weights differ around a vertex and break the symmetry that cancels uniform weighting's
-//! first-order error. What accuracy costs, then: on regular grids the cheapest weighting is
-//! also the most accurate; angle weighting pays off where fans are irregular (the sphere's
-//! pole rings, where its max error is 10 to 80 times below uniform's).
+//! With no poles every vertex of the torus sees the same regular, mirror-symmetric fan, and uniform
+//! weighting (the lecture notes' formula) is the most accurate: its error is at the rounding of the
+//! f32 positions (it stops falling at 512x256, where edges are 7e-3 long). Area and angle weighting
+//! converge at second order (a quarter per doubling) but their max error stays 6 to 350 times
+//! larger; likely because the torus' quads are trapezoids (outer edge longer than inner), so area
+//! and angle weights differ around a vertex and break the symmetry that cancels uniform weighting's
+//! first-order error. What accuracy costs, then: on regular grids the cheapest weighting is also
+//! the most accurate; angle weighting pays off where fans are irregular (the sphere's pole rings,
+//! where its max error is 10 to 80 times below uniform's).
 
 pub mod build;
 pub mod error;

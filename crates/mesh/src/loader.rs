@@ -3,9 +3,9 @@
 //! normals and tangents.
 //!
 //! Positions are welded by exact equality across tobj's models (tobj re-emits positions per
-//! `o`/`g`/`usemtl` model, ECOSYSTEM.md 1.3), so faces on both sides of a group or material
-//! boundary share a position and may be smoothed together when the rule allows it.
-//! Texture coordinates are kept only when every polygon corner names a `vt`, authored normals
+//! `o`/`g`/`usemtl` model; docs/conventions.md, "Dependency facts"), so faces on both sides of a
+//! group or material boundary share a position and may be smoothed together when the rule allows
+//! it. Texture coordinates are kept only when every polygon corner names a `vt`, authored normals
 //! only when every corner names a `vn` (otherwise normals are computed).
 
 use std::cell::RefCell;
@@ -23,8 +23,8 @@ use crate::triangulate::triangulate;
 
 /// Loads an OBJ file (and the MTL files its `mtllib` lines name, relative to the OBJ).
 ///
-/// A missing MTL or an undefined material is not an error (DESIGN.md): the mesh gets the
-/// default material; [`load_obj_with_warnings`] returns those warnings.
+/// A missing MTL or an undefined material is not an error (docs/conventions.md, "Scene files"): the
+/// mesh gets the default material; [`load_obj_with_warnings`] returns those warnings.
 pub fn load_obj(path: &Path, opts: &NormalOptions) -> Result<Mesh, MeshError> {
     load_obj_with_warnings(path, opts).map(|(m, _)| m)
 }
@@ -169,8 +169,8 @@ fn parse_with<ML: Fn(&Path) -> tobj::MTLLoadResult>(
         soup.normals = None;
     }
     let mut mesh = soup.build(opts);
-    // DESIGN: a mesh with no drawable face is an error. Faces with repeated or collinear
-    // corners have zero area: they would load, then render nothing at all.
+    // A mesh with no drawable face is an error (docs/conventions.md, "Scene files"). Faces with
+    // repeated or collinear corners have zero area: they would load, then render nothing at all.
     let degenerate = mesh.degenerate_count();
     if degenerate == mesh.indices.len() {
         return Err(invalid(

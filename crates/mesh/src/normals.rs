@@ -1,7 +1,7 @@
 //! Face normals and vertex normals averaged within a surface.
 //!
-//! Seeds (000): the vertex normal is `N_v = sum N_k / |sum N_k|` over the faces `k` around the
-//! vertex ([`Weighting::Uniform`]); seeds (002): the average is taken only over faces of the same
+//! The lecture notes: the vertex normal is `N_v = sum N_k / |sum N_k|` over the faces `k` around
+//! the vertex ([`Weighting::Uniform`]), and the average is taken only over faces of the same
 //! surface. Here a corner of a face averages the faces around its position that are *compatible*
 //! with its own face: same smoothing group (when the file has `s` lines and the options use them;
 //! group 0 / `s off` means flat), same material (when asked), and a dihedral angle between the two
@@ -9,9 +9,9 @@
 //! never contribute.
 //!
 //! Uniform weighting counts each source polygon once per vertex (an OBJ quad split into two
-//! triangles is one face, as in the seeds); area and angle weights are per triangle (the angles
-//! of a polygon's triangles at a vertex add up to the polygon's angle). Triangles of one polygon
-//! are always smoothed together.
+//! triangles is one face, as in the notes' `N_v`); area and angle weights are per triangle (the
+//! angles of a polygon's triangles at a vertex add up to the polygon's angle). Triangles of one
+//! polygon are always smoothed together.
 //!
 //! Fallbacks, so no corner is ever NaN: where the weighted sum cancels or points away from the
 //! corner's own face (a two-sided sheet with the crease test off), the corner takes its own
@@ -23,7 +23,7 @@ use glam::{DVec3, Vec3};
 /// How the face normals around a vertex are weighted.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Weighting {
-    /// Every face counts once: the seeds' `N_v = sum N_k / |sum N_k|`.
+    /// Every face counts once: the lecture notes' `N_v = sum N_k / |sum N_k|`.
     #[default]
     Uniform,
     /// Faces weighted by their area.
@@ -42,7 +42,7 @@ pub enum NormalSource {
     Computed,
 }
 
-/// Options for vertex normals (DESIGN.md, "Conventions").
+/// Options for vertex normals (docs/conventions.md, "Normals").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NormalOptions {
     /// Weighting of the face normals around a vertex.
@@ -63,8 +63,8 @@ pub struct NormalOptions {
 pub const DEFAULT_CREASE_ANGLE_DEG: f32 = 60.0;
 
 impl Default for NormalOptions {
-    /// The DESIGN.md conventions: `vn` as authored; smoothing groups when the file has them;
-    /// otherwise a 60-degree crease angle; uniform weights (the seeds' formula).
+    /// The conventions of docs/conventions.md: `vn` as authored; smoothing groups when the file has
+    /// them; otherwise a 60-degree crease angle; uniform weights (the lecture notes' `N_v`).
     fn default() -> Self {
         NormalOptions {
             weighting: Weighting::Uniform,
@@ -78,8 +78,8 @@ impl Default for NormalOptions {
 
 impl NormalOptions {
     /// Standard scene S1: as the default, except that every face sharing a position is averaged
-    /// (crease angle 180 degrees) with uniform weights, the seeds' formula. Smoothing groups and
-    /// authored `vn` still win where the file has them.
+    /// (crease angle 180 degrees) with uniform weights, the lecture notes' `N_v`. Smoothing groups
+    /// and authored `vn` still win where the file has them.
     #[must_use]
     pub fn s1() -> Self {
         NormalOptions {
@@ -288,7 +288,7 @@ pub(crate) fn corner_normals(
             faces.normal[t].map(|n| (c, n, weight(c)))
         }));
         if weighting == Weighting::Uniform {
-            // Count each source polygon once at this vertex (seeds: one N_k per face).
+            // Count each source polygon once at this vertex (the notes' N_v: one N_k per face).
             let poly = |c: u32| polygons[(c / 3) as usize];
             let counts: Vec<f64> = around
                 .iter()

@@ -1,10 +1,10 @@
 //! The light second pass over the OBJ text.
 //!
-//! tobj parses the geometry but drops smoothing groups (`s N`, `s off`) and reports errors
-//! without a line number (ECOSYSTEM.md 1.1, 1.4). This scan reads each line once, validates what
-//! tobj would parse (numbers, indices) so that an error can name its line, and records for every
-//! polygon (an `f` or `l` line with three or more vertices, the ones tobj keeps with
-//! `ignore_points` and `ignore_lines`) its line and smoothing group, in file order. It is
+//! tobj parses the geometry but drops smoothing groups (`s N`, `s off`) and reports errors without
+//! a line number (docs/conventions.md, "Dependency facts"). This scan reads each line once,
+//! validates what tobj would parse (numbers, indices) so that an error can name its line, and
+//! records for every polygon (an `f` or `l` line with three or more vertices, the ones tobj keeps
+//! with `ignore_points` and `ignore_lines`) its line and smoothing group, in file order. It is
 //! deliberately stricter than tobj: whatever it accepts, tobj accepts.
 
 use crate::error::MeshError;

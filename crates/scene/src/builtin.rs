@@ -67,8 +67,8 @@ impl Scene {
         Ok(s)
     }
 
-    /// The standard scene S1 (DESIGN.md) around the OBJ mesh at `path`: normalized, normals
-    /// averaged over every face sharing a position unless the file has `vn` or `s` lines,
+    /// The standard scene S1 (docs/conventions.md) around the OBJ mesh at `path`: normalized,
+    /// normals averaged over every face sharing a position unless the file has `vn` or `s` lines,
     /// three attenuated point lights, linear encoding.
     ///
     /// # Errors

@@ -251,7 +251,7 @@ pub struct MeshInfo {
     /// triangle, not of the worst one (a crease-split sliver should not decide for a mesh).
     pub typical_normal_spread: f32,
     /// Every triangle's vertex normals equal its face normal (within 1e-3 rad): a polyhedron,
-    /// the seeds' condition (c) for flat shading.
+    /// the lecture notes' condition (c) for flat shading.
     pub polyhedron: bool,
     /// Axis of a cone holding every vertex normal, when one narrower than 90 degrees exists.
     pub normal_cone: Option<(Vec3, f32)>,

@@ -42,7 +42,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! Scene files follow DESIGN.md's format; see `assets/scenes/default.toml` for every field.
+//! Scene files follow the format of docs/conventions.md ("Scene files"); see
+//! `assets/scenes/default.toml` for every field.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

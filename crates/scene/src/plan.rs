@@ -6,7 +6,7 @@
 //! - disabled or zero-intensity lights;
 //! - the wrong side: every normal of the object lies in a cone that faces away from every
 //!   direction towards the light over the object's bounding sphere (`N.L <= 0` everywhere, so
-//!   the seeds' diffuse and specular terms are both 0); never for bump-mapped objects, whose
+//!   the diffuse and specular terms are both 0); never for bump-mapped objects, whose
 //!   normals leave the cone;
 //! - out of range: a spot light whose outer cone misses the bounding sphere.
 //!
@@ -17,8 +17,8 @@
 //! produce ([`phosphor_lighting::effects_for`]), plus BUMP for a bump-mapped object drawn per
 //! pixel. The raster kernel is compiled per effect set, so an absent term costs nothing.
 //!
-//! Shading `auto` uses the seeds' conditions, with error estimates against one 8-bit code
-//! ([`AUTO_TOLERANCE`]): see [`choose_mode`].
+//! Shading `auto` uses the lecture notes' conditions for flat shading, with error estimates against
+//! one 8-bit code ([`AUTO_TOLERANCE`]): see [`choose_mode`].
 
 use std::collections::HashMap;
 use std::fmt;
@@ -446,7 +446,7 @@ pub struct AutoInput<'a> {
 
 /// `auto`: the cheapest mode that is good enough, with the reason.
 ///
-/// - `flat` where the object is a polyhedron (the seeds' condition c) and lights and viewer
+/// - `flat` where the object is a polyhedron (the lecture notes' condition c) and lights and viewer
 ///   are far enough that N.L and V.R barely vary over a face (conditions a and b): estimated
 ///   error at most [`AUTO_TOLERANCE`].
 /// - `gouraud` where there is no specular term and the mesh is fine relative to the light's

@@ -26,7 +26,7 @@ fn embedded_default_scene_loads_with_every_kind_of_thing() {
 }
 
 #[test]
-fn shipped_s1_scene_matches_the_design() {
+fn shipped_s1_scene_matches_the_s1_definition() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/s1.toml");
     let s = Scene::load(&path).unwrap();
     assert_eq!(s.camera(), phosphor_raster::Camera::s1());
@@ -145,6 +145,26 @@ fn materials_and_objects_are_checked_by_field() {
         "t.toml: materials.m.shininess: must be non-negative, got -1"
     );
     assert_eq!(
+        err("[materials.m]\nshininess = nan\n"),
+        "t.toml: materials.m.shininess: must be a number >= 0 or inf, got NaN"
+    );
+    assert_eq!(
+        err("[materials.m]\nshininess = -inf\n"),
+        "t.toml: materials.m.shininess: must be a number >= 0 or inf, got -inf"
+    );
+    assert_eq!(
+        err("[materials.m]\nshininess = 1e300\n"),
+        "t.toml: materials.m.shininess: must be a finite number, got 1e300"
+    );
+    assert_eq!(
+        err("[materials.m]\nks = 0.5\nfresnel = { model = \"schlick\", mode = \"replace\" }\n"),
+        "t.toml: materials.m.ks: must be 1 under fresnel mode \"replace\" (W(theta) is the whole specular coefficient), got 0.5"
+    );
+    assert_eq!(
+        err("[materials.m]\nfresnel = { model = \"schlick\", mode = \"multiply\" }\n"),
+        "t.toml: materials.m.fresnel.mode: unknown value \"multiply\" (expected \"scale\", \"replace\")"
+    );
+    assert_eq!(
         err("[materials.m]\nkd = [0.5, 0.5, 1e40]\n"),
         "t.toml: materials.m.kd: must be finite, got 1e40"
     );
@@ -215,6 +235,39 @@ fn loaded_then_saved_scene_loads_to_the_same_world() {
         assert_eq!(
             *a.world.get::<&phosphor_lighting::Material>(ea).unwrap(),
             *b.world.get::<&phosphor_lighting::Material>(eb).unwrap()
+        );
+    }
+}
+
+#[test]
+fn perfect_mirror_and_fresnel_replace_load_save_and_render_finite() {
+    let text = "[[lights]]\ntype = \"point\"\nposition = [2, 2, 2]\nintensity = 3\n\
+        [materials.mirror]\nkd = 0.2\nshininess = inf\n\
+        fresnel = { model = \"schlick\", f0 = 0.04, mode = \"replace\" }\n\
+        [[objects]]\nprimitive = { shape = \"sphere\", segments = 24, rings = 12 }\n\
+        material = \"mirror\"\n";
+    let a = Scene::parse(text, "mirror.toml").unwrap();
+    let m = a.materials["mirror"].material;
+    assert_eq!(m.shininess, f32::INFINITY);
+    assert_eq!(m.fresnel_mode, phosphor_lighting::FresnelMode::Replace);
+    assert_eq!(m.ks, Vec3::ONE, "replace without ks holds ks at 1");
+    let saved = scene_to_toml(&a);
+    assert!(saved.contains("shininess = inf"), "{saved}");
+    assert!(saved.contains("mode = \"replace\""), "{saved}");
+    let b = Scene::parse(&saved, "saved.toml").unwrap();
+    assert_eq!(a.materials, b.materials);
+    for mode in ShadingMode::ALL {
+        let mut fb = Framebuffer::new(40, 30).unwrap();
+        let opts = FrameOptions {
+            shading: Some(ShadingChoice::Mode(mode)),
+            ..FrameOptions::default()
+        };
+        render_frame(&a, &mut fb, &opts);
+        assert!(
+            fb.color()
+                .iter()
+                .all(|c| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0),
+            "{mode}"
         );
     }
 }
@@ -400,7 +453,7 @@ fn auto_mode(body: &str) -> (ShadingMode, String) {
 }
 
 #[test]
-fn auto_follows_the_seeds_conditions() {
+fn auto_follows_the_notes_flat_shading_conditions() {
     let sun = "[[lights]]\ntype = \"directional\"\ndirection = [-1, -1, -1]\nintensity = 1\n";
     let near = "[[lights]]\ntype = \"point\"\nposition = [1.5, 1.5, 1.5]\nintensity = 1\n";
     // A polyhedron, matte, under the sun: N.L is constant per face, so flat is exact.

@@ -1,10 +1,9 @@
-//! `phosphor accuracy`: what accuracy costs in time. Renders the scene in every mode (and
-//! `phong`, `gouraud` once more with screen-space interpolation, the seeds' approximation),
+//! `phosphor accuracy`: what accuracy costs in time. Renders the scene in every mode (and `phong`,
+//! `gouraud` once more with screen-space interpolation, the lecture notes' scan-line formulas),
 //! times each as the median of `--frames` frames after one untimed frame, compares each with
 //! `reference` and prints one aligned table row per mode. With `--out-dir`: each mode's image
-//! (`MODE.png`, encoded as the scene says), its error heat-map (`MODE-error.png`, false colour
-//! with a labelled scale bar; none for the reference, whose map would be black) and
-//! `error-vs-time.png`.
+//! (`MODE.png`, encoded as the scene says), its error heat-map (`MODE-error.png`, false colour with
+//! a labelled scale bar; none for the reference, whose map would be black) and `error-vs-time.png`.
 //!
 //! The fixed-mode rows force perspective-correct interpolation on or off so their labels hold
 //! whatever the scene file says; `auto` is the scene as it asks to be drawn (per object, the

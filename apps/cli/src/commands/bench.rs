@@ -1,6 +1,6 @@
-//! `phosphor bench`: frame times per mode, after a warm-up, loading excluded. One line per
-//! mode, exactly `MODE median_ms=X min_ms=Y max_ms=Z frames=N` (DESIGN.md), so scripts can
-//! compare runs.
+//! `phosphor bench`: frame times per mode, after a warm-up, loading excluded. One line per mode,
+//! exactly `MODE median_ms=X min_ms=Y max_ms=Z frames=N` (docs/conventions.md, "Messages"), so
+//! scripts can compare runs.
 
 use std::time::Instant;
 

@@ -1,4 +1,4 @@
-//! `phosphor info FILE.obj`: what a mesh holds, as the renderer will see it (DESIGN.md's
+//! `phosphor info FILE.obj`: what a mesh holds, as the renderer will see it (docs/conventions.md's
 //! normal conventions: `vn` as authored, else smoothing groups, else a 60-degree crease).
 
 use phosphor_mesh::NormalOptions;

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::Vec3;
-use phosphor_lighting::{Attenuation, Fresnel, Light, LightKind, Material, SpecularModel};
+use phosphor_lighting::{
+    Attenuation, Fresnel, FresnelMode, Light, LightKind, Material, SpecularModel,
+};
 use phosphor_mesh::{NormalOptions, NormalSource, Weighting};
 use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump};
 
@@ -345,7 +347,8 @@ fn material(m: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<MaterialDef
         ka: m.color("ka")?.unwrap_or(base.ka),
         kd: m.color("kd")?.unwrap_or(base.kd),
         ks: m.color("ks")?.unwrap_or(base.ks),
-        shininess: m.f32("shininess")?.unwrap_or(base.shininess),
+        // `inf` is the lecture notes' perfect reflector.
+        shininess: m.f32_or_inf("shininess")?.unwrap_or(base.shininess),
         emission: m.color("emission")?.unwrap_or(Vec3::ZERO),
         ..base
     };
@@ -383,8 +386,24 @@ fn material(m: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<MaterialDef
                 ));
             }
         };
-        f.finish(&["model", "w", "f0"])?;
+        if let Some(mode) = f.str("mode")? {
+            mat.fresnel_mode = choose(
+                &f,
+                "mode",
+                mode,
+                &[
+                    ("scale", FresnelMode::Scale),
+                    ("replace", FresnelMode::Replace),
+                ],
+            )?;
+        }
+        f.finish(&["model", "w", "f0", "mode"])?;
         mat.fresnel.validate().map_err(|e| lighting_error(&f, &e))?;
+        // Under "replace" W(theta) is the whole specular coefficient: ks is 1 unless the file
+        // says otherwise, and then validate() names the conflict.
+        if mat.fresnel_mode == FresnelMode::Replace && m.get("ks").is_none() {
+            mat.ks = Vec3::ONE;
+        }
     }
     mat.validate().map_err(|e| lighting_error(m, &e))?;
     let bump = match m.table("bump")? {

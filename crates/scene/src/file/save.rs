@@ -176,6 +176,7 @@ fn material_table(def: &MaterialDef) -> Table {
             fr.insert("f0".into(), f(f0));
         }
     }
+    fr.insert("mode".into(), s(m.fresnel_mode.name()));
     t.insert("fresnel".into(), Value::Table(fr));
     t.insert("emission".into(), v3(m.emission));
     if let Some((src, scale)) = &def.bump {
