@@ -33,6 +33,16 @@
 //! # Ok::<(), phosphor_mesh::MeshError>(())
 //! ```
 //!
+//! # Bounds on work and memory
+//!
+//! Loading is near-linear in the file whatever its shape: edges shared by many faces, vertices
+//! shared by many faces ([`normals`] documents the rule at vertices where more than 256 corners
+//! meet) and polygons of many corners ([`triangulate`]). An MTL file is read only when it is a
+//! regular file of at most [`MAX_MTL_BYTES`]; otherwise, as for any bad MTL, the mesh gets the
+//! default material and a warning. Warnings are one line of at most [`MAX_WARNING_CHARS`]
+//! characters. Primitives whose counts come from a file are checked against a memory limit
+//! before anything is allocated ([`primitives::try_uv_sphere`] and its siblings).
+//!
 //! # Vertex normals: measured accuracy
 //!
 //! Normals averaged from a UV sphere's and a torus' welded positions (no authored normals,
@@ -101,7 +111,10 @@ pub mod triangulate;
 
 pub use build::TriangleSoup;
 pub use error::MeshError;
-pub use loader::{load_obj, load_obj_with_warnings, parse_obj, parse_obj_with_warnings};
+pub use loader::{
+    MAX_MTL_BYTES, MAX_WARNING_CHARS, load_obj, load_obj_with_warnings, parse_obj,
+    parse_obj_with_warnings,
+};
 pub use mesh::{Mesh, MtlMaterial, fallback_tangent};
 pub use normals::{NormalOptions, NormalSource, Weighting, triangle_normal_f64};
 pub use stats::MeshStats;

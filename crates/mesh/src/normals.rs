@@ -13,10 +13,17 @@
 //! angles of a polygon's triangles at a vertex add up to the polygon's angle). Triangles of one
 //! polygon are always smoothed together.
 //!
+//! At a vertex where more than 256 corners meet, each corner averages the faces of its own
+//! surface there instead (surfaces are the faces joined edge to edge by the same tests), which
+//! keeps the work linear; it is the same average wherever every two faces of a surface at that
+//! vertex pass the tests, as on smooth and flat regions.
+//!
 //! Fallbacks, so no corner is ever NaN: where the weighted sum cancels or points away from the
 //! corner's own face (a two-sided sheet with the crease test off), the corner takes its own
 //! face normal; a corner of a degenerate face takes
 //! the average of the compatible faces around its position, else of all faces there, else +Z.
+
+use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
 
@@ -251,7 +258,19 @@ pub(crate) struct FaceLabels<'a> {
     pub polygons: &'a [u32],
 }
 
+/// Vertices where more corners than this meet average each corner over its surface there
+/// rather than testing every pair of faces (see [`corner_normals`]).
+pub(crate) const MAX_PAIRWISE_VALENCE: usize = 256;
+
 /// Computes one unit normal per corner (`tri * 3 + k`).
+///
+/// At a vertex where at most [`MAX_PAIRWISE_VALENCE`] corners meet, each corner averages the
+/// faces there that are compatible with its own face (the module docs' rule, tested pair by
+/// pair). Where more meet (the apex of a fine cone, the centre of a fanned polygon, a face
+/// repeated thousands of times), pair tests would be quadratic in the valence, so each corner
+/// averages the faces of its own surface there (`surfaces`, the components of faces joined
+/// across edges by the same rule): the same faces whenever the rule holds between every two
+/// faces of a surface at that vertex, as on smooth or flat regions.
 pub(crate) fn corner_normals(
     positions: &[Vec3],
     tris: &[[u32; 3]],
@@ -259,6 +278,7 @@ pub(crate) fn corner_normals(
     labels: &FaceLabels<'_>,
     weighting: Weighting,
     rule: &SmoothRule,
+    surfaces: &[u32],
 ) -> Vec<Vec3> {
     let FaceLabels {
         groups,
@@ -280,6 +300,8 @@ pub(crate) fn corner_normals(
     };
     let mut out = vec![Vec3::Z; tris.len() * 3];
     let mut around: Vec<(u32, DVec3, f64)> = Vec::new();
+    let mut polys: Vec<u32> = Vec::new();
+    let mut by_surface: HashMap<u32, (DVec3, f64)> = HashMap::new();
     for pos in 0..positions.len() {
         let corners = by_pos.at(pos);
         around.clear();
@@ -289,53 +311,69 @@ pub(crate) fn corner_normals(
         }));
         if weighting == Weighting::Uniform {
             // Count each source polygon once at this vertex (the notes' N_v: one N_k per face).
-            let poly = |c: u32| polygons[(c / 3) as usize];
-            let counts: Vec<f64> = around
-                .iter()
-                .map(|&(c, _, _)| {
-                    around
-                        .iter()
-                        .filter(|&&(c2, _, _)| poly(c2) == poly(c))
-                        .count() as f64
-                })
-                .collect();
-            for (entry, k) in around.iter_mut().zip(counts) {
-                entry.2 /= k;
+            polys.clear();
+            polys.extend(around.iter().map(|&(c, _, _)| polygons[(c / 3) as usize]));
+            polys.sort_unstable();
+            for entry in &mut around {
+                let p = polygons[(entry.0 / 3) as usize];
+                let count = polys.partition_point(|&q| q <= p) - polys.partition_point(|&q| q < p);
+                entry.2 /= count as f64;
+            }
+        }
+        // Degenerate face with no compatible neighbour: any face here, else +Z.
+        let any_face = || {
+            let any: DVec3 = around.iter().map(|&(_, n2, _)| n2).sum();
+            let l = any.length();
+            (l > 0.0).then(|| any / l)
+        };
+        let mut any_here: Option<Option<DVec3>> = None;
+        let pairwise = corners.len() <= MAX_PAIRWISE_VALENCE;
+        if !pairwise {
+            by_surface.clear();
+            for &(c2, n2, w2) in &around {
+                let entry = by_surface
+                    .entry(surfaces[(c2 / 3) as usize])
+                    .or_insert((DVec3::ZERO, 0.0));
+                entry.0 += n2 * w2;
+                entry.1 += w2.abs();
             }
         }
         for &c in corners {
             let t = (c / 3) as usize;
-            let (g, m) = (groups[t], materials[t]);
             let own = faces.normal[t];
-            let mut sum = DVec3::ZERO;
-            let mut total = 0.0;
-            for &(c2, n2, w2) in &around {
-                let t2 = (c2 / 3) as usize;
-                let same_polygon = polygons[t2] == polygons[t];
-                if !same_polygon && !rule.same_kind(g, groups[t2], m, materials[t2]) {
-                    continue;
-                }
-                if let (false, Some(n), Some(cos)) = (same_polygon, own, rule.cos_crease) {
-                    // Small tolerance so that exactly-at-threshold and coplanar faces merge.
-                    if n.dot(n2) < cos - 1e-9 {
+            let (sum, total) = if pairwise {
+                let (g, m) = (groups[t], materials[t]);
+                let mut sum = DVec3::ZERO;
+                let mut total = 0.0;
+                for &(c2, n2, w2) in &around {
+                    let t2 = (c2 / 3) as usize;
+                    let same_polygon = polygons[t2] == polygons[t];
+                    if !same_polygon && !rule.same_kind(g, groups[t2], m, materials[t2]) {
                         continue;
                     }
+                    if let (false, Some(n), Some(cos)) = (same_polygon, own, rule.cos_crease) {
+                        // Small tolerance so that exactly-at-threshold and coplanar faces merge.
+                        if n.dot(n2) < cos - 1e-9 {
+                            continue;
+                        }
+                    }
+                    sum += n2 * w2;
+                    total += w2.abs();
                 }
-                sum += n2 * w2;
-                total += w2.abs();
-            }
+                (sum, total)
+            } else {
+                by_surface
+                    .get(&surfaces[t])
+                    .copied()
+                    .unwrap_or((DVec3::ZERO, 0.0))
+            };
             let len = sum.length();
             // A corner never takes a normal facing away from its own face (two-sided sheets).
             let facing = own.is_none_or(|n| n.dot(sum) > 0.0);
             let n = if len > 1e-9 * total && len > 0.0 && facing {
                 Some(sum / len)
             } else {
-                own.or_else(|| {
-                    // Degenerate face with no compatible neighbour: any face here, else +Z.
-                    let any: DVec3 = around.iter().map(|&(_, n2, _)| n2).sum();
-                    let l = any.length();
-                    (l > 0.0).then(|| any / l)
-                })
+                own.or_else(|| *any_here.get_or_insert_with(any_face))
             };
             out[c as usize] = n.map_or(Vec3::Z, |n| {
                 phosphor_math::safe_normalize(n.as_vec3(), Vec3::Z)

@@ -549,3 +549,82 @@ fn pixels_per_triangle_is_the_projected_disc_over_the_front_half() {
         assert!(v.is_finite() && v >= 0.0, "{r} {n}: {v}");
     }
 }
+
+/// Objects with the largest primitive counts a scene file allows.
+fn big_primitives(shapes: &[&str]) -> String {
+    shapes
+        .iter()
+        .enumerate()
+        .map(|(i, shape)| {
+            format!("[[objects]]\nprimitive = {shape}\ntransform = {{ translate = [{i}, 0, 0] }}\n")
+        })
+        .collect()
+}
+
+#[test]
+fn primitives_over_the_memory_budget_are_refused_naming_the_count_before_allocating() {
+    // Four distinct spheres at 4096 x 4096 would take about 10 GB: the second one is refused.
+    let sphere = "{ shape = \"sphere\", radius = 1, segments = 4096, rings = 4096 }";
+    let sphere2 = "{ shape = \"sphere\", radius = 2, segments = 4096, rings = 4096 }";
+    let e = err(&big_primitives(&[sphere, sphere2, sphere, sphere2]));
+    assert!(
+        e.starts_with("t.toml: objects[1].primitive.segments: the mesh needs 2.5 GB"),
+        "{e}"
+    );
+    assert!(e.contains("earlier objects take 2.5 GB"), "{e}");
+    // Rings sizes the sphere when it is the larger count; the torus' sides likewise.
+    let rings = "{ shape = \"sphere\", segments = 3000, rings = 4096 }";
+    let e = err(&big_primitives(&[sphere, rings]));
+    assert!(e.starts_with("t.toml: objects[1].primitive.rings: "), "{e}");
+    let sides = "{ shape = \"torus\", segments = 4000, sides = 4096 }";
+    let e = err(&big_primitives(&[sphere, sides]));
+    assert!(
+        e.starts_with("t.toml: objects[1].primitive.sides: the mesh needs"),
+        "{e}"
+    );
+    let plane = "{ shape = \"plane\", subdivisions = 4096 }";
+    let e = err(&big_primitives(&[plane, sphere]));
+    assert!(
+        e.starts_with("t.toml: objects[1].primitive.segments: "),
+        "{e}"
+    );
+    let e = err(&big_primitives(&[sphere, plane]));
+    assert!(
+        e.starts_with("t.toml: objects[1].primitive.subdivisions: "),
+        "{e}"
+    );
+}
+
+#[test]
+fn primitive_footprints_bound_the_built_meshes() {
+    for p in [
+        Primitive::Sphere {
+            radius: 1.0,
+            segments: 24,
+            rings: 12,
+        },
+        Primitive::Cube { half_size: 1.0 },
+        Primitive::Cylinder {
+            radius: 1.0,
+            height: 1.0,
+            segments: 17,
+        },
+        Primitive::Torus {
+            major: 1.0,
+            minor: 0.3,
+            segments: 20,
+            sides: 9,
+        },
+        Primitive::Plane {
+            half_size: 1.0,
+            subdivisions: 5,
+        },
+    ] {
+        let f = p.footprint();
+        let m = p.try_build(f.bytes()).unwrap();
+        assert_eq!(m, p.build());
+        assert_eq!(m.positions.len() as u64, f.vertices, "{p:?}");
+        assert!(m.indices.len() as u64 <= f.triangles, "{p:?}");
+        assert!(p.try_build(f.bytes() - 1).is_err() || matches!(p, Primitive::Cube { .. }));
+    }
+}

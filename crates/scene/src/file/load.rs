@@ -1,6 +1,6 @@
 //! Scene files (TOML) to a [`Scene`]: every field checked, every error naming its field.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -8,13 +8,14 @@ use glam::Vec3;
 use phosphor_lighting::{
     Attenuation, Fresnel, FresnelMode, Light, LightKind, Material, SpecularModel,
 };
+use phosphor_mesh::primitives::{PrimitiveError, gigabytes};
 use phosphor_mesh::{NormalOptions, NormalSource, Weighting};
 use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump};
 
 use super::read::{Fields, choose};
 use crate::components::{
-    Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, Primitive,
-    SceneMesh, Shading, ShadingChoice, Transform,
+    Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name,
+    PRIMITIVE_BUDGET_BYTES, Primitive, SceneMesh, Shading, ShadingChoice, Transform,
 };
 use crate::error::SceneError;
 use crate::{CullChoice, RenderSettings, Scene};
@@ -90,8 +91,20 @@ pub fn parse_scene(
     }
     let mut meshes: HashMap<String, Arc<SceneMesh>> = HashMap::new();
     let mut bumps: BTreeMap<String, Arc<BumpMap>> = BTreeMap::new();
-    for (i, o) in root.tables("objects")?.into_iter().enumerate() {
-        object(&mut scene, &o, i, dir, files, &mut meshes, &mut bumps)?;
+    let mut primitive_bytes = 0u64;
+    let objects = root.tables("objects")?;
+    check_primitive_budget(&objects)?;
+    for (i, o) in objects.into_iter().enumerate() {
+        object(
+            &mut scene,
+            &o,
+            i,
+            dir,
+            files,
+            &mut meshes,
+            &mut bumps,
+            &mut primitive_bytes,
+        )?;
     }
     root.finish(TOP)?;
     Ok(scene)
@@ -613,7 +626,7 @@ fn transform(t: Option<Fields<'_>>) -> Result<Transform, SceneError> {
 
 #[allow(
     clippy::too_many_arguments,
-    reason = "one object reads the scene, its folder, its files and two caches"
+    reason = "one object reads the scene, its folder, its files, two caches and the memory taken"
 )]
 fn object(
     scene: &mut Scene,
@@ -623,6 +636,7 @@ fn object(
     files: &dyn Files,
     meshes: &mut HashMap<String, Arc<SceneMesh>>,
     bumps: &mut BTreeMap<String, Arc<BumpMap>>,
+    primitive_bytes: &mut u64,
 ) -> Result<(), SceneError> {
     let name = o
         .str("name")?
@@ -645,7 +659,15 @@ fn object(
     let mesh = match meshes.get(&key) {
         Some(m) => m.clone(),
         None => {
-            let m = Arc::new(build_mesh(scene, o, source, normals, normalize, files)?);
+            let m = Arc::new(build_mesh(
+                scene,
+                o,
+                source,
+                normals,
+                normalize,
+                files,
+                primitive_bytes,
+            )?);
             meshes.insert(key, m.clone());
             m
         }
@@ -735,6 +757,48 @@ fn object(
     Ok(())
 }
 
+/// Adds up the footprints of the scene's distinct primitives in file order and refuses the
+/// first object that takes the total over [`PRIMITIVE_BUDGET_BYTES`], before any mesh is
+/// built (building the earlier ones could take seconds and gigabytes first). A primitive
+/// that does not parse is left for [`object`] to report in its turn.
+fn check_primitive_budget(objects: &[Fields<'_>]) -> Result<(), SceneError> {
+    let mut seen = HashSet::new();
+    let mut used = 0u64;
+    for o in objects {
+        let Ok(Some(p)) = o.table("primitive") else {
+            continue;
+        };
+        let Ok(prim) = primitive(&p) else {
+            continue;
+        };
+        if !seen.insert(format!("{prim:?}")) {
+            continue;
+        }
+        let f = prim.footprint();
+        f.check(PRIMITIVE_BUDGET_BYTES.saturating_sub(used))
+            .map_err(|e| over_budget(o, &e, used))?;
+        used = used.saturating_add(f.bytes());
+    }
+    Ok(())
+}
+
+/// The error for a primitive refused by the budget, or whose memory the system refused:
+/// `objects[i].primitive.COUNT: the mesh needs N GB ...`, with what earlier objects hold.
+fn over_budget(o: &Fields<'_>, e: &PrimitiveError, used: u64) -> SceneError {
+    let mut what = e.what();
+    if used > 0 {
+        what.push_str(&format!(
+            " (all primitives of a scene share {} GB; earlier objects take {} GB)",
+            gigabytes(PRIMITIVE_BUDGET_BYTES),
+            gigabytes(used)
+        ));
+    }
+    o.error(&format!("primitive.{}", e.field()), what)
+}
+
+/// Builds an object's mesh. A primitive is checked against what is left of
+/// [`PRIMITIVE_BUDGET_BYTES`] after the scene's earlier primitives (`primitive_bytes`, which
+/// grows by its footprint) before anything is allocated.
 fn build_mesh(
     scene: &mut Scene,
     o: &Fields<'_>,
@@ -742,9 +806,17 @@ fn build_mesh(
     normals: NormalOptions,
     normalize: bool,
     files: &dyn Files,
+    primitive_bytes: &mut u64,
 ) -> Result<SceneMesh, SceneError> {
     let mut mesh = match &source {
-        MeshSource::Primitive(p) => p.build(),
+        MeshSource::Primitive(p) => {
+            let left = PRIMITIVE_BUDGET_BYTES.saturating_sub(*primitive_bytes);
+            let mesh = p
+                .try_build(left)
+                .map_err(|e| over_budget(o, &e, *primitive_bytes))?;
+            *primitive_bytes = primitive_bytes.saturating_add(p.footprint().bytes());
+            mesh
+        }
         MeshSource::File { written, resolved } => {
             let shown = resolved.display().to_string();
             let text = files
