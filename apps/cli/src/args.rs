@@ -38,7 +38,7 @@ pub enum Command {
         after_help = "Example:\n  phosphor accuracy assets/scenes/s1.toml --size 320x240 --out-dir accuracy/\n\nColumns: mode, median ms per frame, time relative to gouraud, RMSE, PSNR (dB), max abs\nerror, share of pixels off by more than 1/255 (all against `reference`, linear [0,1]).\nRows: every mode, gouraud and phong also with screen-space interpolation, auto, reference.\nWith --out-dir: MODE.png, MODE-error.png (false-colour heat-map, labelled scale bar, white at\n8/255 or more) and error-vs-time.png (RMSE on a log axis against ms per frame)."
     )]
     Accuracy(AccuracyArgs),
-    /// Print statistics of an OBJ mesh: vertices, triangles, surfaces, smoothing groups, ...
+    /// Print statistics of a mesh (OBJ, PLY, STL, glTF, GLB): positions, vertices, triangles, ...
     #[command(after_help = "Example:\n  phosphor info assets/meshes/bunny.obj")]
     Info(InfoArgs),
     /// Render repeatedly after a warm-up and print timings, one line per mode.
@@ -54,7 +54,8 @@ pub struct SceneSource {
     /// Scene file (TOML); the embedded default scene when absent.
     #[arg(value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
-    /// Render this OBJ mesh in the standard scene S1 (instead of a scene file).
+    /// Render this mesh (OBJ, PLY, STL, glTF or GLB, by extension) in the standard scene S1
+    /// (instead of a scene file).
     #[arg(long, value_name = "FILE.obj", conflicts_with = "scene")]
     pub mesh: Option<PathBuf>,
     /// Back-face culling, overriding the scene's `cull_backfaces`: `auto` skips back faces
@@ -201,7 +202,7 @@ pub struct AccuracyArgs {
 /// `phosphor info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// The OBJ file to describe.
+    /// The mesh file to describe (OBJ, PLY, STL, glTF or GLB, by extension).
     #[arg(value_name = "FILE.obj")]
     pub mesh: PathBuf,
 }

@@ -38,7 +38,8 @@ const MAX_SIDE: u32 = 16_384;
 struct Args {
     /// Scene file (TOML); the embedded default scene when absent.
     scene: Option<PathBuf>,
-    /// Show this OBJ mesh in the standard scene S1 instead of a scene file.
+    /// Show this mesh (OBJ, PLY, STL, glTF or GLB, by extension) in the standard scene S1
+    /// instead of a scene file.
     #[arg(long, value_name = "FILE.obj", conflicts_with = "scene")]
     mesh: Option<PathBuf>,
     /// Window inner size in physical pixels.

@@ -1,5 +1,6 @@
 //! `phosphor-mesh`: triangle meshes for Phosphor. OBJ loading (through tobj, plus a light line
-//! scan for smoothing groups and line-numbered errors), face normals robust for slivers,
+//! scan for smoothing groups and line-numbered errors), PLY, STL and glTF 2.0 loading chosen by
+//! extension ([`load_mesh`]), face normals robust for slivers,
 //! vertex normals averaged only within a surface (the lecture notes' `N_v = sum N_k / |sum N_k|`),
 //! tangents, analytic primitives with exact normals, and a render order
 //! ([`Mesh::sort_spatially`]: triangles along a Morton curve, so neighbours in memory are
@@ -98,6 +99,7 @@
 
 pub mod build;
 pub mod error;
+mod formats;
 mod loader;
 pub mod mesh;
 pub mod normals;
@@ -111,6 +113,7 @@ pub mod triangulate;
 
 pub use build::TriangleSoup;
 pub use error::MeshError;
+pub use formats::{MeshFormat, load_mesh, load_mesh_with_warnings, parse_mesh_bytes};
 pub use loader::{
     MAX_MTL_BYTES, MAX_WARNING_CHARS, load_obj, load_obj_with_warnings, parse_obj,
     parse_obj_with_warnings,

@@ -67,8 +67,9 @@ impl Scene {
         Ok(s)
     }
 
-    /// The standard scene S1 (docs/conventions.md) around the OBJ mesh at `path`: normalized,
-    /// normals averaged over every face sharing a position unless the file has `vn` or `s` lines,
+    /// The standard scene S1 (docs/conventions.md) around the mesh file at `path` (OBJ, PLY, STL, glTF or
+    /// GLB, by extension): normalized, normals averaged over every face sharing a position
+    /// unless the file has authored normals (`vn`) or smoothing groups (`s` lines),
     /// three attenuated point lights, linear encoding.
     ///
     /// # Errors
@@ -76,7 +77,7 @@ impl Scene {
     pub fn s1_with_mesh(path: &Path) -> Result<Scene, SceneError> {
         let normals = NormalOptions::s1();
         let (mut mesh, warnings) =
-            phosphor_mesh::load_obj_with_warnings(path, &normals).map_err(|source| {
+            phosphor_mesh::load_mesh_with_warnings(path, &normals).map_err(|source| {
                 SceneError::Mesh {
                     file: "S1".to_owned(),
                     field: "--mesh".to_owned(),

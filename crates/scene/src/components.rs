@@ -190,7 +190,8 @@ impl Primitive {
 /// Where an object's mesh came from (kept so a scene can be saved as it was written).
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeshSource {
-    /// An OBJ file: the path as written in the scene file, and as resolved.
+    /// A mesh file (OBJ, PLY, STL, glTF, GLB): the path as written in the scene file, and as
+    /// resolved.
     File {
         /// As written (relative to the scene file).
         written: String,

@@ -45,7 +45,7 @@ pub enum SceneError {
         file: String,
         /// The field that named the mesh, `objects[0].mesh`.
         field: String,
-        /// The mesh crate's error (names the OBJ file and line).
+        /// The mesh crate's error (names the mesh file and its line or element).
         #[source]
         source: phosphor_mesh::MeshError,
     },

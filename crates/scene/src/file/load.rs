@@ -9,7 +9,7 @@ use phosphor_lighting::{
     Attenuation, Fresnel, FresnelMode, Light, LightKind, Material, SpecularModel,
 };
 use phosphor_mesh::primitives::{PrimitiveError, gigabytes};
-use phosphor_mesh::{NormalOptions, NormalSource, Weighting};
+use phosphor_mesh::{MeshFormat, NormalOptions, NormalSource, Weighting};
 use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump};
 
 use super::read::{Fields, choose};
@@ -24,6 +24,10 @@ use crate::{CullChoice, RenderSettings, Scene};
 pub trait Files {
     /// The text of `path`, or the I/O error.
     fn read_text(&self, path: &Path) -> std::io::Result<String>;
+    /// The bytes of `path` (binary mesh files), or the I/O error.
+    fn read_bytes(&self, path: &Path) -> std::io::Result<Vec<u8>> {
+        self.read_text(path).map(String::into_bytes)
+    }
     /// Whether `path` exists (used for bump images, which the image crate reads itself).
     fn exists(&self, path: &Path) -> bool;
 }
@@ -34,6 +38,9 @@ pub struct Disk;
 impl Files for Disk {
     fn read_text(&self, path: &Path) -> std::io::Result<String> {
         std::fs::read_to_string(path)
+    }
+    fn read_bytes(&self, path: &Path) -> std::io::Result<Vec<u8>> {
+        std::fs::read(path)
     }
     fn exists(&self, path: &Path) -> bool {
         path.exists()
@@ -815,6 +822,26 @@ fn build_mesh(
                 .try_build(left)
                 .map_err(|e| over_budget(o, &e, *primitive_bytes))?;
             *primitive_bytes = primitive_bytes.saturating_add(p.footprint().bytes());
+            mesh
+        }
+        MeshSource::File { resolved, .. } if MeshFormat::from_path(resolved) != MeshFormat::Obj => {
+            let shown = resolved.display().to_string();
+            let bytes = files
+                .read_bytes(resolved)
+                .map_err(|e| o.error("mesh", format!("{shown}: cannot read: {e}")))?;
+            let dir = resolved.parent().unwrap_or(Path::new(""));
+            let read_relative = |rel: &str| files.read_bytes(&dir.join(rel));
+            let format = MeshFormat::from_path(resolved);
+            let (mesh, warnings) =
+                phosphor_mesh::parse_mesh_bytes(&bytes, &shown, format, &read_relative, &normals)
+                    .map_err(|source| SceneError::Mesh {
+                    file: o.file().to_owned(),
+                    field: o.path_of("mesh"),
+                    source,
+                })?;
+            scene
+                .warnings
+                .extend(warnings.into_iter().map(|w| format!("warning: {w}")));
             mesh
         }
         MeshSource::File { written, resolved } => {
