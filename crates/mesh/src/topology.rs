@@ -67,7 +67,7 @@ pub fn is_closed_solid(positions: &[Vec3], indices: &[[u32; 3]]) -> bool {
         return false;
     }
     let paired = edges.iter().all(|&e| {
-        let reverse = (e << 32) | (e >> 32);
+        let reverse = e.rotate_right(32);
         edges.binary_search(&reverse).is_ok()
     });
     paired && volume6 > 0.0 && volume6.is_finite()
