@@ -35,7 +35,7 @@ pub enum Command {
     Render(RenderArgs),
     /// Render in every mode, compare each with `reference`, and print a table of errors and times.
     #[command(
-        after_help = "Example:\n  phosphor accuracy assets/scenes/s1.toml --size 320x240 --out-dir accuracy/\n\nColumns: mode, median ms per frame, time relative to gouraud, RMSE, PSNR (dB), max abs\nerror, share of pixels off by more than 1/255 (all against `reference`, linear [0,1]).\nRows: every mode, gouraud and phong also with screen-space interpolation, auto, reference.\nWith --out-dir: MODE.png, MODE-error.png (false-colour heat-map, labelled scale bar, white at\n8/255 or more) and error-vs-time.png (RMSE on a log axis against ms per frame)."
+        after_help = "Example:\n  phosphor accuracy assets/scenes/s1.toml --size 320x240 --out-dir accuracy/\n\nColumns: mode, median ms per frame, time relative to gouraud, RMSE, PSNR (dB), max abs\nerror, share of pixels off by more than 1/255 (all against `reference`, linear [0,1]), mach\n(mean jump across interior mesh edges of the value for flat, of the one-pixel slope for the\nothers, in 8-bit codes) and mach/ref (its ratio to the reference's same measure).\nRows: every mode, gouraud and phong also with screen-space interpolation, auto, reference.\nWith --out-dir: MODE.png, MODE-error.png (false-colour heat-map, labelled scale bar, white at\n8/255 or more), MODE-mach.png (edge jumps, false colour) and error-vs-time.png (RMSE on a\nlog axis against ms per frame)."
     )]
     Accuracy(AccuracyArgs),
     /// Print statistics of a mesh (OBJ, PLY, STL, glTF, GLB): positions, vertices, triangles, ...

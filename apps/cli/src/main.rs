@@ -28,6 +28,7 @@ mod accuracy;
 mod args;
 mod commands;
 mod font;
+mod mach;
 mod plot;
 
 use std::process::ExitCode;

@@ -8,6 +8,11 @@
 //! The fixed-mode rows force perspective-correct interpolation on or off so their labels hold
 //! whatever the scene file says; `auto` is the scene as it asks to be drawn (per object, the
 //! plan's choice of mode, the scene's own interpolation setting).
+//!
+//! The last two columns are the Mach-band measure of [`crate::mach`]: the mean jump across the
+//! meshes' interior edges of the value (`flat`) or of the one-pixel slope (every other row), in
+//! 8-bit codes (codes per pixel for slopes), and its ratio to the same measure on `reference`.
+//! With `--out-dir` each row also gets `MODE-mach.png`, the jumps as a heat-map.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -21,6 +26,7 @@ use super::{frame_size, framebuffer, load_source};
 use crate::CliError;
 use crate::accuracy::{ErrorStats, Rgb8Image, compare, heat_map, median, with_scale_labels};
 use crate::args::AccuracyArgs;
+use crate::mach::{EdgeJumps, JumpKind, TriangleIds, edge_jumps, jump_map, triangle_ids};
 use crate::plot::{PlotPoint, encode_png, error_vs_time};
 
 /// Reference frames are timed only while they fit this budget (at least one is always timed):
@@ -31,6 +37,11 @@ const REFERENCE_BUDGET: Duration = Duration::from_secs(8);
 /// saturate to white. One scale for every mode, so that their maps compare at a glance; fine
 /// enough that Gouraud's per-triangle error pattern (its Mach bands) shows beside the highlights.
 const HEAT_SCALE: f32 = 8.0 / 255.0;
+
+/// Top of the Mach heat-maps' scale for value jumps (`flat`) and slope jumps (the rest): one
+/// scale per kind for every row, so that the maps compare at a glance.
+const MACH_VALUE_SCALE: f32 = 16.0 / 255.0;
+const MACH_SLOPE_SCALE: f32 = 2.0 / 255.0;
 
 /// One row of the report.
 #[derive(Clone, Copy, Debug)]
@@ -84,6 +95,18 @@ struct Measured {
     ms: f64,
     /// Error against the reference.
     stats: ErrorStats,
+    /// The Mach-band measure: mean jump across interior edges, and its ratio to the reference's.
+    mach: (f64, f64),
+}
+
+impl Row {
+    /// The shading mode every object gets, if one is forced.
+    fn mode(self) -> Option<ShadingMode> {
+        match self.shading {
+            ShadingChoice::Mode(m) => Some(m),
+            ShadingChoice::Auto => None,
+        }
+    }
 }
 
 /// Renders one untimed frame of `row` into `fb` and returns a copy of its colours.
@@ -141,6 +164,26 @@ fn write_rgb8(out: &Path, img: &Rgb8Image) -> Result<(), CliError> {
     write_atomic(out, &bytes)
 }
 
+/// Writes `MODE-mach.png`: the row's edge jumps as a labelled heat-map on its kind's scale.
+fn write_mach_map(
+    dir: &Path,
+    row: Row,
+    jumps: &EdgeJumps,
+    ids: &TriangleIds,
+    kind: JumpKind,
+) -> Result<(), CliError> {
+    let scale = match kind {
+        JumpKind::Value => MACH_VALUE_SCALE,
+        JumpKind::Slope => MACH_SLOPE_SCALE,
+    };
+    let map = jump_map(jumps, ids, scale)
+        .ok_or_else(|| CliError::Input("frames of different sizes".to_owned()))?;
+    write_rgb8(
+        &dir.join(format!("{}-mach.png", row.file)),
+        &with_scale_labels(&map, scale),
+    )
+}
+
 /// What the table's header line calls the scene.
 fn scene_name(args: &AccuracyArgs) -> String {
     match (&args.source.scene, &args.source.mesh) {
@@ -164,16 +207,36 @@ fn error_cell(value: f64) -> String {
     }
 }
 
+/// A Mach measure in the table: codes with three decimals, `-` when nothing was measured.
+fn mach_cell(jump: f64) -> String {
+    if jump.is_finite() {
+        format!("{:.3}", jump * 255.0)
+    } else {
+        "-".to_owned()
+    }
+}
+
+/// A ratio in the table: two decimals and `x`, `-` when undefined.
+fn ratio_cell(ratio: f64) -> String {
+    if ratio.is_finite() {
+        format!("{ratio:.2}x")
+    } else {
+        "-".to_owned()
+    }
+}
+
 fn print_table(rows: &[Measured], gouraud_ms: f64) {
     say!(
-        "{:<22}  {:>9}  {:>10}  {:>9}  {:>9}  {:>9}  {:>7}",
+        "{:<22}  {:>9}  {:>10}  {:>9}  {:>9}  {:>9}  {:>7}  {:>7}  {:>8}",
         "mode",
         "ms/frame",
         "vs gouraud",
         "RMSE",
         "PSNR dB",
         "max abs",
-        ">1/255"
+        ">1/255",
+        "mach",
+        "mach/ref"
     );
     for m in rows {
         let relative = if gouraud_ms > 0.0 {
@@ -182,14 +245,16 @@ fn print_table(rows: &[Measured], gouraud_ms: f64) {
             "-".to_owned()
         };
         say!(
-            "{:<22}  {:>9.1}  {:>10}  {:>9}  {:>9.2}  {:>9}  {:>6.2}%",
+            "{:<22}  {:>9.1}  {:>10}  {:>9}  {:>9.2}  {:>9}  {:>6.2}%  {:>7}  {:>8}",
             m.row.label,
             m.ms,
             relative,
             error_cell(m.stats.rmse),
             m.stats.psnr_db,
             error_cell(m.stats.max_abs),
-            m.stats.share_over_lsb * 100.0
+            m.stats.share_over_lsb * 100.0,
+            mach_cell(m.mach.0),
+            ratio_cell(m.mach.1)
         );
     }
 }
@@ -219,15 +284,35 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let reference_frames = reference_frames(args.frames, first_time);
     let reference_ms = time_frames(&scene, &mut fb, reference_row, reference_frames);
 
+    // The Mach measure's triangle ids, and the reference's own jumps of both kinds.
+    let ids = triangle_ids(&scene, width, height, &options(reference_row));
+    let reference_jumps = |kind| edge_jumps(&reference, &ids, kind);
+    let reference_mach =
+        [JumpKind::Value, JumpKind::Slope].map(|kind| (kind, reference_jumps(kind)));
+    let mach_of = |row: Row, image: &[Vec3]| -> Result<(f64, f64), CliError> {
+        let kind = JumpKind::for_mode(row.mode());
+        let jumps = edge_jumps(image, &ids, kind);
+        let base = reference_mach
+            .iter()
+            .find(|(k, _)| *k == kind)
+            .map_or(f64::NAN, |(_, j)| j.mean);
+        if let Some(dir) = &out_dir {
+            write_mach_map(dir, row, &jumps, &ids, kind)?;
+        }
+        Ok((jumps.mean, jumps.mean / base))
+    };
+
     let mut measured = Vec::with_capacity(ROWS.len());
     for row in ROWS {
         if row.label == reference_row.label {
             let stats = compare(&reference, &reference)
                 .ok_or_else(|| CliError::Input("the reference frame is empty".to_owned()))?;
+            let mach = mach_of(row, &reference)?;
             measured.push(Measured {
                 row,
                 ms: reference_ms,
                 stats,
+                mach,
             });
             continue;
         }
@@ -241,8 +326,14 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             let path = dir.join(format!("{}-error.png", row.file));
             write_rgb8(&path, &with_scale_labels(&map, HEAT_SCALE))?;
         }
+        let mach = mach_of(row, &image)?;
         let ms = time_frames(&scene, &mut fb, row, args.frames);
-        measured.push(Measured { row, ms, stats });
+        measured.push(Measured {
+            row,
+            ms,
+            stats,
+            mach,
+        });
     }
 
     let threads = thread_count();
@@ -266,6 +357,19 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         .find(|m| m.row.label == "gouraud")
         .map_or(0.0, |m| m.ms);
     print_table(&measured, gouraud_ms);
+    let [(_, value), (_, slope)] = &reference_mach;
+    say!(
+        "mach: mean jump across {} interior edges ({} pixel pairs) of the value (flat, codes) or the one-pixel slope (others, codes/px); mach/ref: against reference's {} (value) and {} (slope){}",
+        value.edges,
+        value.pairs,
+        mach_cell(value.mean),
+        mach_cell(slope.mean),
+        if ids.undecoded > 0 {
+            format!("; {} pixels without a triangle id", ids.undecoded)
+        } else {
+            String::new()
+        }
+    );
 
     if let Some(dir) = &out_dir {
         let points: Vec<PlotPoint> = measured
@@ -282,9 +386,11 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             &error_vs_time(&title, &points),
         )?;
         say!(
-            "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), error-vs-time.png",
+            "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), MODE-mach.png (edge jumps, white at {:.0}/255 for values, {:.0}/255 per pixel for slopes), error-vs-time.png",
             dir.display(),
-            HEAT_SCALE
+            HEAT_SCALE,
+            MACH_VALUE_SCALE * 255.0,
+            MACH_SLOPE_SCALE * 255.0
         );
     }
     Ok(())
