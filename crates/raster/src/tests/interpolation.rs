@@ -63,7 +63,7 @@ fn closed_form(v: &[(f64, f64, f64); 3], xp: f64, yp: f64) -> f64 {
 }
 
 #[test]
-fn scanline_increments_reproduce_the_seeds_closed_form_i4_i5_ip() {
+fn scanline_increments_reproduce_gouraud_closed_form_i4_i5_ip() {
     let (w, h) = (40u32, 30u32);
     for tri in [
         [(5.0, 2.0, 0.2), (35.0, 12.25, 0.9), (12.0, 27.5, 0.5)],
