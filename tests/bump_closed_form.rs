@@ -245,6 +245,7 @@ fn rendered_bumped_plane_matches_the_closed_form_shading() {
         effects: Effects::ALL,
         mode,
         bump: Some(&map),
+        cull_backfaces: false,
     };
     // Where the pixel centre's ray from the S1 eye (0, 0, 3), looking down -Z, meets z = 0.
     let half_height = 3.0 * (22.5f64).to_radians().tan();

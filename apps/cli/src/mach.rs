@@ -137,6 +137,8 @@ pub fn triangle_ids(scene: &Scene, width: u32, height: u32, opts: &FrameOptions)
             effects: Effects::DIFFUSE,
             mode: ShadingMode::Gouraud,
             bump: None,
+            // The same triangles as the picture's draw: culling hides no visible pixel.
+            cull_backfaces: d.cull_backfaces,
         })
         .collect();
     let options = RenderOptions {
