@@ -18,6 +18,39 @@ pub fn available() -> Option<u64> {
         .min()
 }
 
+/// Fixed room kept beside an image for everything else (encoder rows and blocks, thread
+/// stacks, the window system's copy).
+pub const SLACK_BYTES: u64 = 64 << 20;
+
+/// Bytes an image of `width` x `height` at `bytes_per_pixel` needs, with [`SLACK_BYTES`].
+#[must_use]
+pub fn image_bytes(width: u32, height: u32, bytes_per_pixel: u64) -> u64 {
+    u64::from(width) * u64::from(height) * bytes_per_pixel + SLACK_BYTES
+}
+
+/// Refuses, before it is allocated, an image of `width` x `height` at `bytes_per_pixel` that
+/// would not fit in the memory left ([`available`]): `FIELD: WxH needs N GB of memory, M GB
+/// available`, where `field` names what set the size. Where nothing is known of the memory
+/// left, nothing is refused.
+///
+/// # Errors
+/// The message above.
+pub fn check_image(
+    field: &str,
+    (width, height): (u32, u32),
+    bytes_per_pixel: u64,
+) -> Result<(), String> {
+    let need = image_bytes(width, height, bytes_per_pixel);
+    match available() {
+        Some(left) if left < need => Err(format!(
+            "{field}: {width}x{height} needs {} of memory, {} available",
+            human(need),
+            human(left)
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// A byte count as people read it: `6.4 GB`, `512 MB`, `900 kB` (powers of 1000).
 #[must_use]
 pub fn human(bytes: u64) -> String {
@@ -127,6 +160,14 @@ mod tests {
         assert_eq!(soft_limit(limits, "Max address space"), Some(3_000_000_000));
         assert_eq!(soft_limit(limits, "Max data size"), None);
         assert_eq!(stat_field("cache 5\ninactive_file 7\n", "inactive_file"), 7);
+    }
+
+    #[test]
+    fn a_16k_framebuffer_needs_more_than_4_gb() {
+        let need = image_bytes(16_384, 16_384, 16);
+        assert!(need > 4 << 30, "{need}");
+        assert_eq!(human(need), "4.4 GB");
+        assert!(check_image("--size", (4, 4), 16).is_ok());
     }
 
     #[test]

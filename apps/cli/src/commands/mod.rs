@@ -13,7 +13,8 @@ use crate::CliError;
 use crate::args::{ModeArg, SceneSource, Size};
 
 /// Loads the scene a command names: a scene file, a mesh in S1, or the embedded default.
-/// Warnings (missing MTL, ignored bump maps) go to stderr, one line each.
+/// Warnings (missing MTL, ignored bump maps, samples cut to the budget) go to stderr, one
+/// short line each.
 pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
     let scene = match (&source.scene, &source.mesh) {
         (Some(path), _) => Scene::load(path),
@@ -22,7 +23,7 @@ pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
     }
     .map_err(|e| CliError::Input(e.to_string()))?;
     for w in &scene.warnings {
-        eprintln!("{w}");
+        phosphor_output::term::warn(w);
     }
     Ok(scene)
 }
@@ -45,6 +46,16 @@ pub fn shading_choice(m: ModeArg) -> ShadingChoice {
         ModeArg::FastPhong => ShadingChoice::Mode(ShadingMode::FastPhong),
         ModeArg::Reference => ShadingChoice::Mode(ShadingMode::Reference),
         ModeArg::Auto => ShadingChoice::Auto,
+    }
+}
+
+/// What set a command's image size, for messages: `--size`, or the scene file's `render` table.
+#[must_use]
+pub fn size_field(source: &SceneSource, size: Option<Size>) -> String {
+    match (size, &source.scene) {
+        (Some(_), _) => "--size".to_owned(),
+        (None, Some(path)) => format!("{}: render.width, render.height", path.display()),
+        (None, None) => "the scene's size".to_owned(),
     }
 }
 
