@@ -151,9 +151,11 @@ fn a_full_disk_while_writing_an_exr_keeps_the_old_file_and_says_why() {
     limited_writes_keep_the_old_file("exr", 7);
 }
 
-#[test]
-fn a_terminated_write_leaves_no_temporary_file() {
-    let dir = temp("sigterm");
+/// Sends `signal` to a render while its temporary file exists: the process ends by that
+/// signal, the temporary file is gone and the old file keeps its bytes.
+fn interrupted_write_leaves_no_temporary_file(signal: &str, number: i32) {
+    use std::os::unix::process::ExitStatusExt as _;
+    let dir = temp(&format!("signal-{signal}"));
     let out = dir.join("big.exr");
     fs::write(&out, b"the old picture").unwrap();
     let scene = dir.join("empty.toml");
@@ -178,11 +180,11 @@ fn a_terminated_write_leaves_no_temporary_file() {
                 break;
             }
             if names_in(&dir).iter().any(|n| n.ends_with(".tmp")) {
-                let killed = Command::new("kill")
-                    .args(["-TERM", &child.id().to_string()])
+                let sent = Command::new("kill")
+                    .args([&format!("-{signal}"), &child.id().to_string()])
                     .status()
                     .unwrap();
-                assert!(killed.success());
+                assert!(sent.success());
                 caught = true;
                 break;
             }
@@ -190,11 +192,7 @@ fn a_terminated_write_leaves_no_temporary_file() {
         }
         let status = child.wait().unwrap();
         if caught {
-            use std::os::unix::process::ExitStatusExt as _;
-            assert!(
-                status.signal() == Some(15) || status.code() == Some(143),
-                "{status:?}"
-            );
+            assert_eq!(status.signal(), Some(number), "{status:?}");
             assert_eq!(names_in(&dir), ["big.exr", "empty.toml"]);
             assert_eq!(fs::read(&out).unwrap(), b"the old picture");
             return;
@@ -202,6 +200,16 @@ fn a_terminated_write_leaves_no_temporary_file() {
         fs::write(&out, b"the old picture").unwrap();
     }
     panic!("the write was never caught in progress");
+}
+
+#[test]
+fn a_terminated_write_leaves_no_temporary_file() {
+    interrupted_write_leaves_no_temporary_file("TERM", 15);
+}
+
+#[test]
+fn an_interrupted_write_leaves_no_temporary_file() {
+    interrupted_write_leaves_no_temporary_file("INT", 2);
 }
 
 #[test]

@@ -153,6 +153,10 @@ fn headless_viewer_renders_the_default_scene_to_a_screenshot() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
     assert!(stdout.contains("frames=10 "), "{stdout}");
+    // Tagged sRGB, as the window shows it: an sRGB chunk before the image data.
+    let bytes = std::fs::read(&shot).expect("screenshot");
+    let at = |tag: &[u8]| bytes.windows(4).position(|w| w == tag);
+    assert!(at(b"sRGB").zip(at(b"IDAT")).is_some_and(|(s, d)| s < d));
     let img = image::open(&shot).expect("screenshot readable").to_rgb8();
     assert_eq!(img.dimensions(), (320, 180));
     // The default scene's background is dark; objects cover a good part of the view.

@@ -27,6 +27,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let progress = Progress::start("loading (stage 1 of 3)");
     let scene = load_source(&args.source)?;
     let load_time = started.elapsed();
+    // The render's time counts its framebuffer: allocating and clearing it is part of the work.
+    let render_start = Instant::now();
     let (width, height) = frame_size(&scene, args.size);
     // The PNG and EXR encoders stream rows and blocks: the framebuffer is the image's cost.
     check_memory(
@@ -39,13 +41,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         threads: threads(args.threads),
         ..FrameOptions::default()
     };
-    let mut fb = framebuffer(width, height)?;
     progress.set(
         &format!("rendering {width}x{height} (stage 2 of 3)"),
         1.0 / 3.0,
         None,
     );
-    let render_start = Instant::now();
+    let mut fb = framebuffer(width, height)?;
     let report = render_frame(&scene, &mut fb, &opts);
     let render_time = render_start.elapsed();
     let mut save_time = Duration::ZERO;
