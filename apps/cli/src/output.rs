@@ -80,7 +80,7 @@ pub fn write_image(
     let written = match format_of(out)? {
         Format::Png => {
             let encoder = Encoder::new(encoding);
-            let row = |y: u32, line: &mut [u8]| {
+            let mut row = |y: u32, line: &mut [u8]| {
                 let start = y as usize * width;
                 for (px, c) in line.chunks_exact_mut(3).zip(&colour[start..start + width]) {
                     px.copy_from_slice(&[
@@ -90,11 +90,11 @@ pub fn write_image(
                     ]);
                 }
             };
-            write_png(out, force, size, transfer(encoding), row, progress)
+            write_png(out, force, size, transfer(encoding), &mut row, progress)
         }
         Format::Exr => {
             let pixel = |x: u32, y: u32| colour[y as usize * width + x as usize].to_array();
-            write_exr(out, force, size, pixel, progress)
+            write_exr(out, force, size, &pixel, progress)
         }
     };
     written.map_err(|e| input_error(&e))
@@ -103,7 +103,7 @@ pub fn write_image(
 /// Writes an 8-bit sRGB image (a heat-map, a plot) to `out` as PNG.
 pub fn write_rgb8(out: &Path, img: &Rgb8Image, force: bool) -> Result<(), CliError> {
     let stride = img.width as usize * 3;
-    let row = |y: u32, line: &mut [u8]| {
+    let mut row = |y: u32, line: &mut [u8]| {
         let start = y as usize * stride;
         line.copy_from_slice(&img.data[start..start + stride]);
     };
@@ -112,7 +112,7 @@ pub fn write_rgb8(out: &Path, img: &Rgb8Image, force: bool) -> Result<(), CliErr
         force,
         (img.width, img.height),
         Transfer::Srgb,
-        row,
+        &mut row,
         &mut |_| {},
     )
     .map_err(|e| input_error(&e))

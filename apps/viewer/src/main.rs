@@ -280,7 +280,7 @@ impl View for Viewer {
         let encoder = Encoder::new(Encoding::Srgb);
         let width = fb.width() as usize;
         let colour = fb.color();
-        let row = |y: u32, line: &mut [u8]| {
+        let mut row = |y: u32, line: &mut [u8]| {
             let start = y as usize * width;
             for (px, c) in line.chunks_exact_mut(3).zip(&colour[start..start + width]) {
                 px.copy_from_slice(&[
@@ -291,7 +291,15 @@ impl View for Viewer {
             }
         };
         let size = (fb.width(), fb.height());
-        write_png(path, self.force, size, Transfer::Srgb, row, &mut |_| {}).map_err(|e| {
+        write_png(
+            path,
+            self.force,
+            size,
+            Transfer::Srgb,
+            &mut row,
+            &mut |_| {},
+        )
+        .map_err(|e| {
             if e.forceable() {
                 format!("{e} (--force writes it anyway)")
             } else {

@@ -17,17 +17,18 @@
 //! let dir = tempfile::tempdir()?;
 //! let path = dir.path().join("ramp.png");
 //! // A 4x2 grey ramp, sRGB-tagged.
-//! write_png(&path, false, (4, 2), Transfer::Srgb, |_, row| {
+//! let mut ramp = |_y: u32, row: &mut [u8]| {
 //!     for (x, px) in row.chunks_mut(3).enumerate() {
 //!         px.fill(x as u8 * 60);
 //!     }
-//! }, &mut |_| {})?;
+//! };
+//! write_png(&path, false, (4, 2), Transfer::Srgb, &mut ramp, &mut |_| {})?;
 //! let bytes = std::fs::read(&path)?;
 //! assert!(bytes.starts_with(b"\x89PNG"));
 //! assert!(bytes.windows(4).any(|w| w == b"sRGB"));
 //!
 //! // A folder is never replaced; the message names the path.
-//! let err = write_png(dir.path(), true, (4, 2), Transfer::Srgb, |_, _| {}, &mut |_| {});
+//! let err = write_png(dir.path(), true, (4, 2), Transfer::Srgb, &mut ramp, &mut |_| {});
 //! assert!(err.unwrap_err().to_string().ends_with("is a folder"));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

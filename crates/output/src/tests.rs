@@ -75,7 +75,7 @@ fn png_encoder(transfer: Transfer) -> impl Fn(&mut dyn crate::file::Sink) -> Res
             W,
             H,
             transfer,
-            |y, row| {
+            &mut |y, row| {
                 for (x, px) in row.chunks_mut(3).enumerate() {
                     px.copy_from_slice(&[x as u8 * 20, y as u8 * 30, 99]);
                 }
@@ -90,7 +90,7 @@ fn exr_encoder(sink: &mut dyn crate::file::Sink) -> Result<(), String> {
         sink,
         W,
         H,
-        |x, y| [x as f32 * 0.1, y as f32 * 0.2, 1.5],
+        &|x, y| [x as f32 * 0.1, y as f32 * 0.2, 1.5],
         &mut |_| {},
     )
 }
