@@ -30,7 +30,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (or a mesh in the standard scene S1) to a PNG or EXR file.
     #[command(
-        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render scene.toml --plan               (print the frame plan only)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear) or .exr (linear f32).\nThe file is written atomically: on any error an existing file is left untouched."
+        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render scene.toml --plan               (print the frame plan only)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear, tagged as such) or\n.exr (linear f32). The file is written whole or not at all: on any error (a full disk too)\nan existing file is left untouched. A symbolic link is written through; a read-only file,\na device or a FIFO only with --force."
     )]
     Render(RenderArgs),
     /// Render in every mode, compare each with `reference`, and print a table of errors and times.
@@ -163,7 +163,7 @@ pub struct RenderArgs {
     /// Image size (overrides the scene file).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<Size>,
-    /// Worker threads; 0 = all cores (overrides the scene file).
+    /// Worker threads; 0 = all cores; at most 4 per core (overrides the scene file).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// PNG encoding (overrides the scene file; EXR is always linear).
@@ -180,6 +180,9 @@ pub struct RenderArgs {
         required_unless_present = "plan"
     )]
     pub output: Option<PathBuf>,
+    /// Replace a read-only output file, or write into a device or FIFO.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `phosphor accuracy`.
@@ -197,6 +200,9 @@ pub struct AccuracyArgs {
     /// Frames timed per mode (the median is reported).
     #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,
+    /// Replace read-only files in --out-dir.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `phosphor info`.
@@ -219,7 +225,7 @@ pub struct BenchArgs {
     /// Image size (overrides the scene file).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<Size>,
-    /// Worker threads; 0 = all cores (overrides the scene file).
+    /// Worker threads; 0 = all cores; at most 4 per core (overrides the scene file).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// Timed frames per mode (after one untimed warm-up frame).

@@ -47,6 +47,17 @@ pub enum LightingError {
         /// What the other field requires, in words.
         reason: &'static str,
     },
+    /// A count (a number of samples) lies outside its allowed range; the value is kept as the
+    /// whole number it was, so that the message echoes it exactly.
+    #[error("{field}: must be in {range}, got {value}")]
+    CountOutOfRange {
+        /// The offending field.
+        field: &'static str,
+        /// The offending count.
+        value: u32,
+        /// The allowed range, in words.
+        range: &'static str,
+    },
     /// A name (from a scene file) is not one of the known ones.
     #[error("{field}: unknown name {name:?}, expected {expected}")]
     UnknownName {

@@ -233,9 +233,9 @@ impl Light {
 
 fn check_samples(samples: u32) -> Result<(), LightingError> {
     if samples == 0 || samples > MAX_SAMPLES_PER_EDGE {
-        return Err(LightingError::OutOfRange {
+        return Err(LightingError::CountOutOfRange {
             field: "samples",
-            value: samples as f32,
+            value: samples,
             range: "[1, 256]",
         });
     }
@@ -285,6 +285,21 @@ mod tests {
                 .unwrap_err()
                 .to_string()
                 .starts_with("samples")
+        );
+    }
+
+    #[test]
+    fn sample_counts_are_echoed_as_given() {
+        // Through f32 the largest u32 would read 4294967300.
+        let rect = LightKind::Rect {
+            corner: Vec3::ZERO,
+            edge_u: Vec3::X,
+            edge_v: Vec3::Y,
+            samples: u32::MAX,
+        };
+        assert_eq!(
+            Light::new(rect, Vec3::ONE).unwrap_err().to_string(),
+            "samples: must be in [1, 256], got 4294967295"
         );
     }
 

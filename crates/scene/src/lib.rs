@@ -53,6 +53,7 @@ use hecs::{Entity, World};
 use phosphor_lighting::Light;
 use phosphor_raster::{Camera, Encoding};
 
+pub mod budget;
 pub mod builtin;
 pub mod components;
 pub mod error;
@@ -60,6 +61,7 @@ pub mod file;
 pub mod plan;
 pub mod render;
 
+pub use budget::{MAX_DISTRIBUTED_SAMPLES, SampleCut, limit_distributed_samples, point_samples};
 pub use components::{
     Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, Primitive,
     SceneMesh, Shading, ShadingChoice, Transform,

@@ -628,3 +628,39 @@ fn primitive_footprints_bound_the_built_meshes() {
         assert!(p.try_build(f.bytes() - 1).is_err() || matches!(p, Primitive::Cube { .. }));
     }
 }
+
+#[test]
+fn distributed_samples_over_the_budget_are_cut_with_a_warning_naming_the_field() {
+    let mut text = String::new();
+    for _ in 0..8 {
+        text.push_str(
+            "[[lights]]\ntype = \"rect\"\ncorner = [0, 2, 0]\nedge_u = [1, 0, 0]\nedge_v = [0, 0, 1]\nintensity = 1\nsamples = 256\n",
+        );
+    }
+    text.push_str("[[lights]]\ntype = \"point\"\nposition = [0, 3, 0]\nintensity = 1\n");
+    let s = Scene::parse(&text, "many.toml").unwrap();
+    assert_eq!(s.warnings.len(), 8, "{:?}", s.warnings);
+    assert!(
+        s.warnings[0].starts_with("warning: many.toml: lights[0].samples: 256 cut to 5 ("),
+        "{}",
+        s.warnings[0]
+    );
+    assert!(s.warnings[7].contains("lights[7].samples"));
+    let total: u64 = s.lights().iter().map(|(_, l)| point_samples(l)).sum();
+    assert!(total <= MAX_DISTRIBUTED_SAMPLES, "{total}");
+    // Names and order survive the cut.
+    assert_eq!(s.lights()[8].0, "light 8");
+    // Within the budget nothing is said.
+    let s = Scene::parse(&text.replace("samples = 256", "samples = 5"), "few.toml").unwrap();
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+}
+
+#[test]
+fn out_of_range_sample_counts_are_echoed_as_written() {
+    assert_eq!(
+        err(
+            "[[lights]]\ntype = \"tube\"\nstart = [0, 0, 0]\nend = [1, 0, 0]\nintensity = 1\nsamples = 4294967295\n"
+        ),
+        "t.toml: lights[0].samples: must be in [1, 256], got 4294967295"
+    );
+}

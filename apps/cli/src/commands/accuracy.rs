@@ -21,13 +21,15 @@ use phosphor_math::glam::Vec3;
 use phosphor_raster::{Framebuffer, ShadingMode};
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
 
-use super::render::write_image;
-use super::{frame_size, framebuffer, load_source};
+use super::{frame_size, framebuffer, load_source, size_field};
 use crate::CliError;
-use crate::accuracy::{ErrorStats, Rgb8Image, compare, heat_map, median, with_scale_labels};
+use crate::accuracy::{ErrorStats, compare, heat_map, median, with_scale_labels};
 use crate::args::AccuracyArgs;
+use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory};
+use crate::output::{write_image, write_rgb8};
+use crate::plot::{PlotPoint, error_vs_time};
 use crate::mach::{EdgeJumps, JumpKind, TriangleIds, edge_jumps, jump_map, triangle_ids};
-use crate::plot::{PlotPoint, encode_png, error_vs_time};
+use crate::progress::{Progress, time_left};
 
 /// Reference frames are timed only while they fit this budget (at least one is always timed):
 /// at large sizes one reference frame takes seconds, and the report must stay under a minute.
@@ -132,36 +134,48 @@ fn reference_frames(requested: u32, first: Duration) -> u32 {
     requested.min((fit.floor() as u32).max(1))
 }
 
-/// Median milliseconds of `frames` timed frames of `row`.
-fn time_frames(scene: &Scene, fb: &mut Framebuffer, row: Row, frames: u32) -> f64 {
+/// Median milliseconds of `frames` timed frames of `row`; `tick` after each.
+fn time_frames(
+    scene: &Scene,
+    fb: &mut Framebuffer,
+    row: Row,
+    frames: u32,
+    tick: &mut dyn FnMut(),
+) -> f64 {
     let opts = options(row);
     let times: Vec<f64> = (0..frames)
         .map(|_| {
             let start = Instant::now();
             render_frame(scene, fb, &opts);
-            start.elapsed().as_secs_f64() * 1e3
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            tick();
+            ms
         })
         .collect();
     median(&times)
 }
 
-/// Writes `bytes` to `out` through a temporary file and a rename (as `render` does).
-fn write_atomic(out: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    let name = out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = out.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let result = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, out));
-    result.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        CliError::Input(format!("{}: cannot write: {e}", out.display()))
-    })
+/// Bytes per pixel the report holds at once: the framebuffer, the reference's and a mode's
+/// colours (linear f32 RGB), and a heat-map with its labelled copy (8-bit RGB).
+const BYTES_PER_PIXEL: u64 = FRAMEBUFFER_BYTES_PER_PIXEL + 12 + 12 + 3 + 3;
+
+/// Frames drawn so far against the frames the report will draw, on the progress line.
+struct Frames<'a> {
+    progress: &'a Progress,
+    done: u32,
+    total: u32,
 }
 
-fn write_rgb8(out: &Path, img: &Rgb8Image) -> Result<(), CliError> {
-    let bytes = encode_png(img).map_err(|e| CliError::Input(format!("{}: {e}", out.display())))?;
-    write_atomic(out, &bytes)
+impl Frames<'_> {
+    fn tick(&mut self) {
+        self.done += 1;
+        let f = f64::from(self.done) / f64::from(self.total.max(self.done));
+        self.progress.set(
+            &format!("measuring: frame {} of {}", self.done, self.total),
+            f,
+            time_left(self.progress.elapsed(), f),
+        );
+    }
 }
 
 /// Writes `MODE-mach.png`: the row's edge jumps as a labelled heat-map on its kind's scale.
@@ -171,6 +185,7 @@ fn write_mach_map(
     jumps: &EdgeJumps,
     ids: &TriangleIds,
     kind: JumpKind,
+    force: bool,
 ) -> Result<(), CliError> {
     let scale = match kind {
         JumpKind::Value => MACH_VALUE_SCALE,
@@ -181,6 +196,7 @@ fn write_mach_map(
     write_rgb8(
         &dir.join(format!("{}-mach.png", row.file)),
         &with_scale_labels(&map, scale),
+        force,
     )
 }
 
@@ -263,6 +279,11 @@ fn print_table(rows: &[Measured], gouraud_ms: f64) {
 pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let scene = load_source(&args.source)?;
     let (width, height) = frame_size(&scene, args.size);
+    check_memory(
+        &size_field(&args.source, args.size),
+        (width, height),
+        BYTES_PER_PIXEL,
+    )?;
     let out_dir: Option<PathBuf> = args.out_dir.clone();
     if let Some(dir) = &out_dir {
         std::fs::create_dir_all(dir)
@@ -272,17 +293,41 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let encoding = scene.settings.encoding;
     let save = |fb: &Framebuffer, row: Row| -> Result<(), CliError> {
         match &out_dir {
-            Some(dir) => write_image(fb, &dir.join(format!("{}.png", row.file)), encoding),
+            Some(dir) => write_image(
+                fb,
+                &dir.join(format!("{}.png", row.file)),
+                encoding,
+                args.force,
+                &mut |_| {},
+            ),
             None => Ok(()),
         }
+    };
+    let progress = Progress::start("measuring");
+    // One untimed and `frames` timed frames per row (fewer for a slow reference).
+    let rows = ROWS.len() as u32;
+    let mut frames = Frames {
+        progress: &progress,
+        done: 0,
+        total: rows * (1 + args.frames),
     };
 
     // The reference first: its untimed frame is what every mode is compared with.
     let reference_row = ROWS[ROWS.len() - 1];
     let (reference, first_time) = render_image(&scene, &mut fb, reference_row);
+    frames.tick();
     save(&fb, reference_row)?;
     let reference_frames = reference_frames(args.frames, first_time);
-    let reference_ms = time_frames(&scene, &mut fb, reference_row, reference_frames);
+    frames.total -= args.frames - reference_frames;
+    let reference_ms = time_frames(
+        &scene,
+        &mut fb,
+        reference_row,
+        reference_frames,
+        &mut || {
+            frames.tick();
+        },
+    );
 
     // The Mach measure's triangle ids, and the reference's own jumps of both kinds.
     let ids = triangle_ids(&scene, width, height, &options(reference_row));
@@ -297,7 +342,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             .find(|(k, _)| *k == kind)
             .map_or(f64::NAN, |(_, j)| j.mean);
         if let Some(dir) = &out_dir {
-            write_mach_map(dir, row, &jumps, &ids, kind)?;
+            write_mach_map(dir, row, &jumps, &ids, kind, args.force)?;
         }
         Ok((jumps.mean, jumps.mean / base))
     };
@@ -317,6 +362,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             continue;
         }
         let (image, _) = render_image(&scene, &mut fb, row);
+        frames.tick();
         save(&fb, row)?;
         let stats = compare(&image, &reference)
             .ok_or_else(|| CliError::Input("frames of different sizes".to_owned()))?;
@@ -324,10 +370,10 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             let map = heat_map(&image, &reference, width, height, HEAT_SCALE)
                 .ok_or_else(|| CliError::Input("frames of different sizes".to_owned()))?;
             let path = dir.join(format!("{}-error.png", row.file));
-            write_rgb8(&path, &with_scale_labels(&map, HEAT_SCALE))?;
+            write_rgb8(&path, &with_scale_labels(&map, HEAT_SCALE), args.force)?;
         }
         let mach = mach_of(row, &image)?;
-        let ms = time_frames(&scene, &mut fb, row, args.frames);
+        let ms = time_frames(&scene, &mut fb, row, args.frames, &mut || frames.tick());
         measured.push(Measured {
             row,
             ms,
@@ -335,6 +381,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             mach,
         });
     }
+    progress.finish();
 
     let threads = thread_count();
     say!(
@@ -384,6 +431,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         write_rgb8(
             &dir.join("error-vs-time.png"),
             &error_vs_time(&title, &points),
+            args.force,
         )?;
         say!(
             "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), MODE-mach.png (edge jumps, white at {:.0}/255 for values, {:.0}/255 per pixel for slopes), error-vs-time.png",

@@ -7,10 +7,11 @@ use std::time::Instant;
 use phosphor_raster::ShadingMode;
 use phosphor_scene::{FrameOptions, ShadingChoice, render_frame};
 
-use super::{frame_size, framebuffer, load_source};
+use super::{frame_size, framebuffer, load_source, size_field};
 use crate::CliError;
 use crate::accuracy::median;
 use crate::args::{BenchArgs, BenchMode};
+use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, threads};
 
 fn choices(mode: BenchMode) -> Vec<ShadingChoice> {
     let m = ShadingChoice::Mode;
@@ -33,11 +34,17 @@ fn choices(mode: BenchMode) -> Vec<ShadingChoice> {
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let scene = load_source(&args.source)?;
     let (width, height) = frame_size(&scene, args.size);
+    check_memory(
+        &size_field(&args.source, args.size),
+        (width, height),
+        FRAMEBUFFER_BYTES_PER_PIXEL,
+    )?;
     let mut fb = framebuffer(width, height)?;
+    let threads = threads(args.threads);
     for choice in choices(args.shading) {
         let opts = FrameOptions {
             shading: Some(choice),
-            threads: args.threads.unwrap_or(0),
+            threads,
             ..FrameOptions::default()
         };
         render_frame(&scene, &mut fb, &opts); // warm-up: caches, thread pool, tables

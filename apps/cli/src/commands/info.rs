@@ -14,7 +14,7 @@ pub fn run(args: &InfoArgs) -> Result<(), CliError> {
         phosphor_mesh::load_mesh_with_warnings(&args.mesh, &NormalOptions::default())
             .map_err(|e| CliError::Input(e.to_string()))?;
     for w in warnings {
-        eprintln!("warning: {w}");
+        phosphor_output::term::warn(&w);
     }
     say!("file:             {}", args.mesh.display());
     say!(

@@ -13,7 +13,8 @@ use crate::CliError;
 use crate::args::{CullArg, ModeArg, SceneSource, Size};
 
 /// Loads the scene a command names: a scene file, a mesh in S1, or the embedded default.
-/// Warnings (missing MTL, ignored bump maps) go to stderr, one line each.
+/// Warnings (missing MTL, ignored bump maps, samples cut to the budget) go to stderr, one
+/// short line each.
 pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
     let mut scene = match (&source.scene, &source.mesh) {
         (Some(path), _) => Scene::load(path),
@@ -29,7 +30,7 @@ pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
         };
     }
     for w in &scene.warnings {
-        eprintln!("{w}");
+        phosphor_output::term::warn(w);
     }
     Ok(scene)
 }
@@ -52,6 +53,16 @@ pub fn shading_choice(m: ModeArg) -> ShadingChoice {
         ModeArg::FastPhong => ShadingChoice::Mode(ShadingMode::FastPhong),
         ModeArg::Reference => ShadingChoice::Mode(ShadingMode::Reference),
         ModeArg::Auto => ShadingChoice::Auto,
+    }
+}
+
+/// What set a command's image size, for messages: `--size`, or the scene file's `render` table.
+#[must_use]
+pub fn size_field(source: &SceneSource, size: Option<Size>) -> String {
+    match (size, &source.scene) {
+        (Some(_), _) => "--size".to_owned(),
+        (None, Some(path)) => format!("{}: render.width, render.height", path.display()),
+        (None, None) => "the scene's size".to_owned(),
     }
 }
 

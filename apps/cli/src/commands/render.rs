@@ -1,126 +1,68 @@
-//! `phosphor render`: one frame of a scene to a PNG or EXR file, written atomically.
+//! `phosphor render`: one frame of a scene to a PNG or EXR file, written whole or not at all.
 
-use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use phosphor_raster::{Encoding, Framebuffer};
+use phosphor_raster::Encoding;
 use phosphor_scene::{FrameOptions, render_frame};
 
-use super::{frame_size, framebuffer, load_source, shading_choice};
+use super::{frame_size, framebuffer, load_source, shading_choice, size_field};
 use crate::CliError;
 use crate::args::{EncodingArg, RenderArgs};
+use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, threads};
+use crate::output::{check_output, write_image};
+use crate::progress::{Progress, time_left};
 
-/// The output format, from the extension.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Format {
-    Png,
-    Exr,
-}
-
-fn format_of(path: &Path) -> Result<Format, CliError> {
-    match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
-        Some("png") => Ok(Format::Png),
-        Some("exr") => Ok(Format::Exr),
-        _ => Err(CliError::Usage(format!(
-            "{}: output must end in .png or .exr",
-            path.display()
-        ))),
-    }
-}
-
-/// Writes `fb` to `out` through a temporary file beside it and a rename, so a failure never
-/// leaves a half-written file, nor touches an existing one.
-pub fn write_image(fb: &Framebuffer, out: &Path, encoding: Encoding) -> Result<(), CliError> {
-    let format = format_of(out)?;
-    let name = out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let ext = if format == Format::Png { "png" } else { "exr" };
-    let tmp: PathBuf = out.with_file_name(format!(".{name}.{}.tmp.{ext}", std::process::id()));
-    let written = match format {
-        Format::Png => fb.save_png(&tmp, encoding),
-        Format::Exr => fb.save_exr(&tmp),
-    };
-    let result = written.map_err(|e| e.to_string()).and_then(|()| {
-        std::fs::rename(&tmp, out).map_err(|e| format!("{}: cannot write: {e}", out.display()))
-    });
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        // The library names the temporary file; name the one the user asked for.
-        let tmp_name = tmp.display().to_string();
-        return Err(CliError::Input(
-            e.replace(&tmp_name, &out.display().to_string()),
-        ));
-    }
-    Ok(())
-}
-
-/// A spinner-style progress line on stderr for renders longer than a second (terminal only).
-struct Progress {
-    done: Arc<AtomicBool>,
-    handle: Option<std::thread::JoinHandle<()>>,
-}
-
-impl Progress {
-    fn start(label: String) -> Progress {
-        let done = Arc::new(AtomicBool::new(false));
-        let handle = std::io::stderr().is_terminal().then(|| {
-            let done = done.clone();
-            std::thread::spawn(move || {
-                let start = Instant::now();
-                let mut shown = false;
-                while !done.load(Ordering::Relaxed) {
-                    std::thread::sleep(Duration::from_millis(100));
-                    let t = start.elapsed();
-                    if t >= Duration::from_secs(1) {
-                        let bar = "#".repeat(((t.as_millis() / 250) % 20) as usize + 1);
-                        eprint!("\r{label} [{bar:<20}] {:.1} s", t.as_secs_f64());
-                        shown = true;
-                    }
-                }
-                if shown {
-                    eprint!("\r{}\r", " ".repeat(label.len() + 32));
-                }
-            })
-        });
-        Progress { done, handle }
-    }
-
-    fn finish(mut self) {
-        self.done.store(true, Ordering::Relaxed);
-        if let Some(h) = self.handle.take() {
-            let _ = h.join();
-        }
-    }
+/// Milliseconds with one decimal, for the closing line.
+fn ms(d: Duration) -> String {
+    format!("{:.1} ms", d.as_secs_f64() * 1e3)
 }
 
 /// Runs `phosphor render`.
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
-    // Check the output's extension before any work, so a usage error is immediate.
+    let started = Instant::now();
+    // The output is checked before any work, so that a refusal or a bad extension is immediate.
     if let Some(out) = &args.output {
-        format_of(out)?;
+        check_output(out, args.force)?;
     }
+    let progress = Progress::start("loading (stage 1 of 3)");
     let scene = load_source(&args.source)?;
+    let load_time = started.elapsed();
+    // The render's time counts its framebuffer: allocating and clearing it is part of the work.
+    let render_start = Instant::now();
     let (width, height) = frame_size(&scene, args.size);
+    // The PNG and EXR encoders stream rows and blocks: the framebuffer is the image's cost.
+    check_memory(
+        &size_field(&args.source, args.size),
+        (width, height),
+        FRAMEBUFFER_BYTES_PER_PIXEL,
+    )?;
     let opts = FrameOptions {
         shading: args.shading.map(shading_choice),
-        threads: args.threads.unwrap_or(0),
+        threads: threads(args.threads),
         ..FrameOptions::default()
     };
+    progress.set(
+        &format!("rendering {width}x{height} (stage 2 of 3)"),
+        1.0 / 3.0,
+        None,
+    );
     let mut fb = framebuffer(width, height)?;
-    let progress = Progress::start(format!("rendering {width}x{height}"));
-    let start = Instant::now();
     let report = render_frame(&scene, &mut fb, &opts);
-    let elapsed = start.elapsed();
+    let render_time = render_start.elapsed();
+    let mut save_time = Duration::ZERO;
+    if let Some(out) = &args.output {
+        let encoding = match args.encoding {
+            Some(EncodingArg::Srgb) => Encoding::Srgb,
+            Some(EncodingArg::Linear) => Encoding::Linear,
+            None => scene.settings.encoding,
+        };
+        let label = format!("saving {} (stage 3 of 3)", out.display());
+        let save_start = Instant::now();
+        write_image(&fb, out, encoding, args.force, &mut |f| {
+            progress.set(&label, (2.0 + f) / 3.0, time_left(save_start.elapsed(), f));
+        })?;
+        save_time = save_start.elapsed();
+    }
     progress.finish();
     if args.plan {
         say!("{}", report.plan.to_string().trim_end());
@@ -133,17 +75,16 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let Some(out) = &args.output else {
         return Ok(());
     };
-    let encoding = match args.encoding {
-        Some(EncodingArg::Srgb) => Encoding::Srgb,
-        Some(EncodingArg::Linear) => Encoding::Linear,
-        None => scene.settings.encoding,
-    };
-    write_image(&fb, out, encoding)?;
+    let total = started.elapsed();
     let s = report.stats;
     say!(
-        "rendered {} in {:.1} ms: {width}x{height}, {} of {} triangles drawn, {} pixels shaded{}",
+        "rendered {} in {} (load {}, render {} = {:.0}%, save {}): {width}x{height}, {} of {} triangles drawn, {} pixels shaded{}",
         out.display(),
-        elapsed.as_secs_f64() * 1e3,
+        ms(total),
+        ms(load_time),
+        ms(render_time),
+        100.0 * render_time.as_secs_f64() / total.as_secs_f64().max(1e-9),
+        ms(save_time),
         s.triangles_drawn,
         s.triangles_in,
         s.pixels_shaded,
@@ -154,10 +95,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         }
     );
     if s.bump_ignored > 0 {
-        eprintln!(
-            "warning: bump mapping ignored on {} object(s): flat and gouraud shade per triangle or vertex",
+        phosphor_output::term::warn(&format!(
+            "bump mapping ignored on {} object(s): flat and gouraud shade per triangle or vertex",
             s.bump_ignored
-        );
+        ));
     }
     Ok(())
 }

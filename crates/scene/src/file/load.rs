@@ -13,6 +13,7 @@ use phosphor_mesh::{MeshFormat, NormalOptions, NormalSource, Weighting};
 use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump};
 
 use super::read::{Fields, choose};
+use crate::budget::{MAX_DISTRIBUTED_SAMPLES, limit_distributed_samples};
 use crate::components::{
     Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name,
     PRIMITIVE_BUDGET_BYTES, Primitive, SceneMesh, Shading, ShadingChoice, Transform,
@@ -85,11 +86,22 @@ pub fn parse_scene(
         scene.ambient = a.color("intensity")?.unwrap_or(Vec3::ZERO);
         a.finish(&["intensity"])?;
     }
-    for l in root.tables("lights")? {
+    let mut lights = Vec::new();
+    for (i, l) in root.tables("lights")?.into_iter().enumerate() {
         let name = l
             .str("name")?
-            .map_or_else(|| format!("light {}", scene.light_count()), str::to_owned);
-        let light = light(&l)?;
+            .map_or_else(|| format!("light {i}"), str::to_owned);
+        lights.push((name, light(&l)?));
+    }
+    let mut kinds: Vec<Light> = lights.iter().map(|(_, l)| *l).collect();
+    let (cuts, asked) = limit_distributed_samples(&mut kinds, MAX_DISTRIBUTED_SAMPLES);
+    for cut in &cuts {
+        scene.warnings.push(format!(
+            "warning: {file}: lights[{}].samples: {} cut to {} (the distributed lights ask for {asked} point samples; the scene budget is {MAX_DISTRIBUTED_SAMPLES})",
+            cut.index, cut.before, cut.after
+        ));
+    }
+    for ((name, _), light) in lights.into_iter().zip(kinds) {
         scene.world.spawn((Name(name), light));
     }
     for (name, m) in root.named_tables("materials")? {
