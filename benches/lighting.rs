@@ -20,7 +20,7 @@ const SPECULAR: u32 = DIFFUSE | Effects::SPECULAR.bits();
 const FRESNEL: u32 = SPECULAR | Effects::FRESNEL.bits();
 const ATTENUATION: u32 = FRESNEL | Effects::ATTENUATION.bits();
 
-/// `count` point lights around the unit sphere, with the seeds' 1/(K+d) attenuation.
+/// `count` point lights around the unit sphere, with the lecture notes' 1/(K+d) attenuation.
 fn lights(count: usize) -> LightSet {
     let lights: Vec<Light> = (0..count)
         .filter_map(|i| {

@@ -1,5 +1,5 @@
 //! Phosphor against a CPU peer, euc 0.5, on the standard scene S1 with the bunny at 1920x1080:
-//! the same mesh, camera, lights and equations (DESIGN.md S1:
+//! the same mesh, camera, lights and equations (S1, docs/conventions.md:
 //! `I = ka Ia + sum f(d) Il (kd max(N.L, 0) + ks max(R.V, 0)^ns)`, `f(d) = 1/(1 + d)`),
 //! evaluated per pixel (`phong`) and per vertex (`gouraud`) in euc's shaders, plus a
 //! constant-colour fill. euc 0.5 draws on one thread; Phosphor is measured on one thread and
@@ -205,6 +205,7 @@ fn phosphor_frame(s: &Scene, fb: &mut Framebuffer, mode: &str, threads: usize) {
             ShadingMode::Phong
         },
         bump: None,
+        cull_backfaces: false,
     };
     let opts = RenderOptions {
         threads,

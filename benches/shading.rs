@@ -1,7 +1,7 @@
-//! Frame time of the rasterizer on the standard scene S1 (DESIGN.md): per shading mode on the
-//! bunny and on a UV sphere of about as many triangles, how the cost grows with triangles,
-//! pixels and threads, and what the frame plan gains by simulating only the effects a scene
-//! calls for. Throughput is covered pixels (`RenderStats::pixels_shaded` of one frame).
+//! Frame time of the rasterizer on the standard scene S1 (docs/conventions.md): per shading mode on
+//! the bunny and on a UV sphere of about as many triangles, how the cost grows with triangles,
+//! pixels and threads, and what the frame plan gains by simulating only the effects a scene calls
+//! for. Throughput is covered pixels (`RenderStats::pixels_shaded` of one frame).
 //!
 //! Run everything (under 6 minutes on 2 loaded cores): `cargo bench --bench shading`. One group:
 //! `cargo bench --bench shading -- s1_bunny`. A short preset for quick local runs (10 samples,
@@ -31,7 +31,7 @@ use phosphor::raster::{
     render_fill_only,
 };
 
-/// The headline size (DESIGN.md, S1).
+/// The headline size of S1 (docs/conventions.md).
 const FULL_HD: (u32, u32) = (1920, 1080);
 /// S1's second size.
 const HD: (u32, u32) = (1280, 720);
@@ -79,6 +79,7 @@ impl Scene {
             effects: self.effects,
             mode,
             bump: None,
+            cull_backfaces: false,
         }
     }
 }

@@ -1,7 +1,7 @@
 //! Fast Phong where its quadratic fit breaks down: large triangles with widely spread normals,
 //! grazing light, a highlight narrower than a triangle. The fit must fall back to `phong` (or
-//! be good enough) so the image stays within the stated error of `phong`, and within DESIGN's
-//! accuracy bar (RMSE <= 0.01) of `reference`.
+//! be good enough) so the image stays within the stated error of `phong`, and within the
+//! accuracy bar of docs/conventions.md (RMSE <= 0.01) of `reference`.
 
 #![allow(clippy::unwrap_used)]
 
@@ -83,8 +83,8 @@ fn spread_triangle(spread_deg: f32) -> TriMesh {
 }
 
 /// Asserts fast-phong stays within its stated error of `phong`: RMSE at most
-/// [`FAST_PHONG_TOLERANCE`], no pixel more than two codes off, and DESIGN's bar of RMSE 0.01
-/// against `reference`.
+/// [`FAST_PHONG_TOLERANCE`], no pixel more than two codes off, and the bar of RMSE 0.01
+/// (docs/conventions.md) against `reference`.
 fn assert_within_bound(((worst, rmse), vs_reference, _): ((f32, f64), f64, u64), label: &str) {
     assert!(
         rmse <= f64::from(FAST_PHONG_TOLERANCE),

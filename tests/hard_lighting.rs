@@ -107,10 +107,10 @@ fn light_inside_a_closed_object_leaves_only_ambient_outside() {
 }
 
 #[test]
-fn shininess_0_1_10000_and_huge_give_bounded_specular() {
+fn shininess_0_1_10000_huge_and_infinite_give_bounded_specular() {
     // V exactly along R (normal, light and eye all on +Z): (V.R)^n_s = 1 for every n_s, for
-    // Phong and Blinn. Off the mirror direction n_s = 0 still gives 1 (no fall-off) and the
-    // huge exponents give 0.
+    // Phong and Blinn, the perfect mirror (n_s = inf) included. Off the mirror direction
+    // n_s = 0 still gives 1 (no fall-off) and the huge and infinite exponents give 0.
     let set = LightSet::new(
         Vec3::ZERO,
         &[Light::directional(-Vec3::Z, Vec3::ONE).unwrap()],
@@ -118,7 +118,7 @@ fn shininess_0_1_10000_and_huge_give_bounded_specular() {
     let (p, n) = (Vec3::ZERO, Vec3::Z);
     let on_r = Vec3::new(0.0, 0.0, 2.0);
     let off_r = Vec3::new(2.0, 0.0, 2.0);
-    for shininess in [0.0, 1.0, 1e4, 1e30, f32::MAX] {
+    for shininess in [0.0, 1.0, 1e4, 1e30, f32::MAX, f32::INFINITY] {
         for model in [SpecularModel::Phong, SpecularModel::Blinn] {
             let mat = Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::splat(0.5), shininess)
                 .unwrap()
@@ -145,8 +145,8 @@ fn shininess_0_1_10000_and_huge_give_bounded_specular() {
         );
         render_all_modes(W, H, &sphere, &setup, &format!("n_s {shininess}"));
     }
-    // An infinite n_s is refused with a message naming the field.
-    let e = Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::ONE, f32::INFINITY).unwrap_err();
+    // A NaN n_s is refused with a message naming the field.
+    let e = Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::ONE, f32::NAN).unwrap_err();
     assert!(e.to_string().contains("shininess"), "{e}");
 }
 

@@ -110,6 +110,7 @@ pub fn draw<'a>(mesh: &'a TriMesh, setup: &'a Setup, mode: ShadingMode) -> DrawI
         effects: Effects::ALL,
         mode,
         bump: None,
+        cull_backfaces: false,
     }
 }
 

@@ -131,7 +131,7 @@ pub fn heat_map(
     scale: f32,
 ) -> Option<Rgb8Image> {
     let pixels = (width as usize).checked_mul(height as usize)?;
-    if image.len() != pixels || reference.len() != pixels || pixels == 0 {
+    if image.len() != pixels || reference.len() != pixels {
         return None;
     }
     let scale = if scale.is_finite() && scale > 0.0 {
@@ -139,13 +139,29 @@ pub fn heat_map(
     } else {
         1.0
     };
+    scale_bar_image(width, height, |i| {
+        heat_colour(pixel_error(image[i], reference[i]) / scale)
+    })
+}
+
+/// A `width` x `height` false-colour image whose pixel `i` (row-major) is `colour_of(i)`, with
+/// [`heat_map`]'s scale bar on the right (bottom = 0, top = the scale, white ticks at quarters;
+/// [`with_scale_labels`] writes the numbers). `None` for an empty image.
+#[must_use]
+pub fn scale_bar_image(
+    width: u32,
+    height: u32,
+    colour_of: impl Fn(usize) -> [u8; 3],
+) -> Option<Rgb8Image> {
+    if (width as usize).checked_mul(height as usize)? == 0 {
+        return None;
+    }
     let out_width = width + BAR_GAP + BAR_WIDTH;
     let mut data = vec![0u8; out_width as usize * height as usize * 3];
     for y in 0..height {
         let row = y as usize * out_width as usize;
         for x in 0..width {
-            let i = (y * width + x) as usize;
-            let colour = heat_colour(pixel_error(image[i], reference[i]) / scale);
+            let colour = colour_of((y * width + x) as usize);
             let o = (row + x as usize) * 3;
             data[o..o + 3].copy_from_slice(&colour);
         }

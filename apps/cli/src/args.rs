@@ -1,4 +1,5 @@
-//! The command line: every subcommand and flag of DESIGN.md's CLI contract, parsed by clap.
+//! The command line: every subcommand and flag of the CLI contract (README, docs/conventions.md),
+//! parsed by clap.
 //!
 //! Values are checked here (sizes, mode names, encodings) so that a bad value is a usage error
 //! (exit 2, clap's message) before any file is read.
@@ -32,15 +33,15 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (or a mesh in the standard scene S1) to a PNG or EXR file.
     #[command(
-        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render scene.toml --plan               (print the frame plan only)\n  phosphor render --mesh cube.obj --azimuth 45 --elevation 30 -o cube.png\n  phosphor render scene.toml --eye 4,2,4 --target 0,0.5,0 --fov 35 -o view.png\n  phosphor render scene.toml --turntable 36 -o out/frame_%04d.png\n  phosphor render scene.toml --turntable 36 --frames 0..18 -o out/frame_%04d.png   (first half)\n  phosphor render scene.toml -o - > frame.png     (one PNG on standard output)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear) or .exr (linear f32).\nThe file is written atomically: on any error an existing file is left untouched."
+        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render scene.toml --plan               (print the frame plan only)\n  phosphor render --mesh cube.obj --azimuth 45 --elevation 30 -o cube.png\n  phosphor render scene.toml --eye 4,2,4 --target 0,0.5,0 --fov 35 -o view.png\n  phosphor render scene.toml --turntable 36 -o out/frame_%04d.png\n  phosphor render scene.toml --turntable 36 --frames 0..18 -o out/frame_%04d.png   (first half)\n  phosphor render scene.toml -o - > frame.png     (one PNG on standard output)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear, tagged as such) or\n.exr (linear f32). Each file is written whole or not at all: on any error (a full disk too)\nan existing file is left untouched. A symbolic link is written through; a read-only file,\na device or a FIFO only with --force."
     )]
     Render(RenderArgs),
     /// Render in every mode, compare each with `reference`, and print a table of errors and times.
     #[command(
-        after_help = "Example:\n  phosphor accuracy assets/scenes/s1.toml --size 320x240 --out-dir accuracy/\n\nColumns: mode, median ms per frame, time relative to gouraud, RMSE, PSNR (dB), max abs\nerror, share of pixels off by more than 1/255 (all against `reference`, linear [0,1]).\nRows: every mode, gouraud and phong also with screen-space interpolation, auto, reference.\nWith --out-dir: MODE.png, MODE-error.png (false-colour heat-map, labelled scale bar, white at\n8/255 or more) and error-vs-time.png (RMSE on a log axis against ms per frame)."
+        after_help = "Example:\n  phosphor accuracy assets/scenes/s1.toml --size 320x240 --out-dir accuracy/\n\nColumns: mode, median ms per frame, time relative to gouraud, RMSE, PSNR (dB), max abs\nerror, share of pixels off by more than 1/255 (all against `reference`, linear [0,1]), mach\n(mean jump across interior mesh edges of the value for flat, of the one-pixel slope for the\nothers, in 8-bit codes) and mach/ref (its ratio to the reference's same measure).\nRows: every mode, gouraud and phong also with screen-space interpolation, auto, reference.\nWith --out-dir: MODE.png, MODE-error.png (false-colour heat-map, labelled scale bar, white at\n8/255 or more), MODE-mach.png (edge jumps, false colour) and error-vs-time.png (RMSE on a\nlog axis against ms per frame)."
     )]
     Accuracy(AccuracyArgs),
-    /// Print statistics of an OBJ mesh: vertices, triangles, surfaces, smoothing groups, ...
+    /// Print statistics of a mesh (OBJ, PLY, STL, glTF, GLB): positions, vertices, triangles, ...
     #[command(after_help = "Example:\n  phosphor info assets/meshes/bunny.obj")]
     Info(InfoArgs),
     /// Render repeatedly after a warm-up and print timings, one line per mode.
@@ -56,13 +57,29 @@ pub struct SceneSource {
     /// Scene file (TOML); the embedded default scene when absent.
     #[arg(value_name = "SCENE.toml")]
     pub scene: Option<PathBuf>,
-    /// Render this OBJ mesh under S1's lights and material (instead of a scene file), framed
-    /// to fit the view from a three-quarter angle (azimuth 30, elevation 20).
+    /// Render this mesh (OBJ, PLY, STL, glTF or GLB, by extension) under S1's lights and
+    /// material (instead of a scene file), framed to fit the view from a three-quarter angle
+    /// (azimuth 30, elevation 20).
     #[arg(long, value_name = "FILE.obj", conflicts_with = "scene")]
     pub mesh: Option<PathBuf>,
     /// How `--mesh`'s normals are built.
     #[command(flatten)]
     pub normals: NormalArgs,
+    /// Back-face culling, overriding the scene's `cull_backfaces`: `auto` skips back faces
+    /// only where that cannot change a pixel (closed solids seen from outside).
+    #[arg(long, value_enum, value_name = "auto|always|never")]
+    pub cull: Option<CullArg>,
+}
+
+/// Back-face culling on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CullArg {
+    /// Only closed, outward-oriented meshes seen from outside (the same picture).
+    Auto,
+    /// Every object (open meshes show holes where their back is seen).
+    Always,
+    /// No object: both sides of every triangle are drawn.
+    Never,
 }
 
 /// A shading choice on the command line: one of the modes, or `auto`.
@@ -74,7 +91,7 @@ pub enum ModeArg {
     Gouraud,
     /// Per pixel with interpolated normals.
     Phong,
-    /// Bishop & Weimer's Taylor expansion, with a fallback to phong.
+    /// A quadratic fitted per large triangle, stepped by forward differences; else phong.
     FastPhong,
     /// Ground truth: per pixel in f64.
     Reference,
@@ -91,7 +108,7 @@ pub enum BenchMode {
     Gouraud,
     /// Per pixel with interpolated normals.
     Phong,
-    /// Bishop & Weimer's Taylor expansion, with a fallback to phong.
+    /// A quadratic fitted per large triangle, stepped by forward differences; else phong.
     FastPhong,
     /// Ground truth: per pixel in f64.
     Reference,
@@ -153,7 +170,7 @@ pub struct RenderArgs {
     /// Image size (overrides the scene file).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<Size>,
-    /// Worker threads; 0 = all cores (overrides the scene file).
+    /// Worker threads; 0 = all cores; at most 4 per core (overrides the scene file).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// PNG encoding (overrides the scene file; EXR is always linear).
@@ -182,6 +199,9 @@ pub struct RenderArgs {
     /// Camera flags.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Replace a read-only output file, or write into a device or FIFO.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `phosphor accuracy`.
@@ -202,12 +222,15 @@ pub struct AccuracyArgs {
     /// Camera flags.
     #[command(flatten)]
     pub camera: CameraArgs,
+    /// Replace read-only files in --out-dir.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `phosphor info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// The OBJ file to describe.
+    /// The mesh file to describe (OBJ, PLY, STL, glTF or GLB, by extension).
     #[arg(value_name = "FILE.obj")]
     pub mesh: PathBuf,
 }
@@ -224,7 +247,7 @@ pub struct BenchArgs {
     /// Image size (overrides the scene file).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<Size>,
-    /// Worker threads; 0 = all cores (overrides the scene file).
+    /// Worker threads; 0 = all cores; at most 4 per core (overrides the scene file).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// Timed frames per mode (after one untimed warm-up frame).

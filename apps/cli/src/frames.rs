@@ -8,10 +8,7 @@
 //! one frame K). Files are named by the frame number within the whole turntable, so the same
 //! frame gets the same name whichever process renders it.
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
-
-use phosphor_raster::{Encoding, Framebuffer};
 
 use crate::CliError;
 
@@ -246,23 +243,6 @@ pub fn output_for(out: Option<&Path>, frames: usize, plan: bool) -> Result<Outpu
         )));
     }
     Ok(Output::Files(pattern))
-}
-
-/// Writes `fb` as one PNG to standard output: the same bytes `-o FILE.png` writes.
-///
-/// # Errors
-/// The PNG cannot be encoded or standard output cannot be written (input error).
-pub fn write_png_to_stdout(fb: &Framebuffer, encoding: Encoding) -> Result<(), CliError> {
-    let img = image::RgbImage::from_raw(fb.width(), fb.height(), fb.to_rgb8(encoding))
-        .ok_or_else(|| CliError::Input("standard output: image buffer size mismatch".to_owned()))?;
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut bytes, image::ImageFormat::Png)
-        .map_err(|e| CliError::Input(format!("standard output: {e}")))?;
-    let mut stdout = std::io::stdout().lock();
-    stdout
-        .write_all(bytes.get_ref())
-        .and_then(|()| stdout.flush())
-        .map_err(|e| CliError::Input(format!("standard output: cannot write: {e}")))
 }
 
 #[cfg(test)]

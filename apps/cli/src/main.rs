@@ -15,19 +15,17 @@
 //! --weighting uniform|area|angle --no-smoothing-groups --split-by-material`.
 //!
 //! Errors are one line on stderr, `error: FILE:LINE: what` or `error: FILE: FIELD: what` (the
-//! libraries' error messages already name the file and line or field). Exit codes: 0 success,
-//! 1 input error (a file that is missing or wrong, an output that cannot be written), 2 usage
-//! error (clap's own, and an output extension other than `.png`/`.exr`).
+//! libraries' error messages already name the file and line or field; usage errors name the
+//! flag first). Exit codes: 0 success, 1 input error (a file that is missing or wrong, an
+//! output that cannot be written, stdout or stderr that cannot be written), 2 usage error
+//! (clap's, and an output extension other than `.png`/`.exr`).
 
-/// `println!` that ends the process quietly when stdout is gone (`phosphor info x.obj | head`),
-/// as command-line tools do on a closed pipe, instead of panicking.
+/// `println!` whose failure is never silent: a line on stdout, and exit status 1 with a
+/// message on stderr if it cannot be written (a full disk behind `>`, a closed pipe).
 macro_rules! say {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        if writeln!(std::io::stdout(), $($arg)*).is_err() {
-            std::process::exit(0);
-        }
-    }};
+    ($($arg:tt)*) => {
+        phosphor_output::term::say(&format!($($arg)*))
+    };
 }
 
 mod accuracy;
@@ -35,12 +33,17 @@ mod args;
 mod commands;
 mod font;
 mod frames;
+mod limits;
+mod mach;
+mod output;
 mod plot;
+mod progress;
 mod view;
 
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::{CommandFactory, Parser};
+use phosphor_output::term;
 
 use crate::args::{Cli, Command};
 
@@ -73,8 +76,8 @@ impl std::fmt::Display for CliError {
 }
 
 fn main() -> ExitCode {
-    // clap prints its own usage errors and exits with 2; --help and --version exit 0.
-    let cli = Cli::parse();
+    // Usage errors: one line naming the flag, exit 2; --help and --version: stdout, exit 0.
+    let cli = term::parse_or_exit(Cli::try_parse(), &Cli::command());
     let result = match cli.command {
         Command::Render(a) => commands::render::run(&a),
         Command::Accuracy(a) => commands::accuracy::run(&a),
@@ -82,11 +85,13 @@ fn main() -> ExitCode {
         Command::Bench(a) => commands::bench::run(&a),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => {
+            term::finish_stdout();
+            ExitCode::SUCCESS
+        }
         Err(e) => {
             // One line, whatever the library put in its message.
-            let message = e.to_string().lines().collect::<Vec<_>>().join(" ");
-            eprintln!("error: {message}");
+            term::tell(&format!("error: {e}"));
             ExitCode::from(e.exit_code())
         }
     }

@@ -318,23 +318,6 @@ pub fn error_vs_time(title: &str, points: &[PlotPoint]) -> Rgb8Image {
     img
 }
 
-/// Encodes `img` as PNG bytes in memory.
-///
-/// # Errors
-/// The encoder's message (only on an internal inconsistency of the image's size).
-pub fn encode_png(img: &Rgb8Image) -> Result<Vec<u8>, String> {
-    let mut bytes = Vec::new();
-    image::ImageEncoder::write_image(
-        image::codecs::png::PngEncoder::new(&mut bytes),
-        &img.data,
-        img.width,
-        img.height,
-        image::ExtendedColorType::Rgb8,
-    )
-    .map_err(|e| e.to_string())?;
-    Ok(bytes)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -448,6 +431,5 @@ mod tests {
             }],
         );
         assert_eq!((img.width, img.height), (WIDTH, HEIGHT));
-        assert!(encode_png(&img).is_ok_and(|b| b.starts_with(b"\x89PNG")));
     }
 }

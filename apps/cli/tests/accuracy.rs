@@ -34,7 +34,8 @@ fn out_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// One table row: milliseconds, relative time, RMSE, PSNR, max abs, share over 1/255 (%).
+/// One table row: milliseconds, relative time, RMSE, PSNR, max abs, share over 1/255 (%),
+/// the Mach measure and its ratio to the reference's (NaN where the table shows `-`).
 #[derive(Debug)]
 struct Row {
     ms: f64,
@@ -42,30 +43,40 @@ struct Row {
     psnr_db: f64,
     max_abs: f64,
     share_percent: f64,
+    mach: f64,
+    mach_ratio: f64,
 }
 
-/// The row of `mode` in the table (the label is everything before the six numbers).
+/// Numbers after the label in each row.
+const NUMBERS: usize = 8;
+
+/// The row of `mode` in the table (the label is everything before the eight numbers).
 fn row(stdout: &str, mode: &str) -> Row {
     let line = stdout
         .lines()
         .find(|l| {
             let fields: Vec<&str> = l.split_whitespace().collect();
-            fields.len() > 6 && fields[..fields.len() - 6].join(" ") == mode
+            fields.len() > NUMBERS && fields[..fields.len() - NUMBERS].join(" ") == mode
         })
         .unwrap_or_else(|| panic!("no row for {mode} in\n{stdout}"));
     let fields: Vec<&str> = line.split_whitespace().collect();
     let n = fields.len();
     let num = |s: &str| -> f64 {
+        if s == "-" {
+            return f64::NAN;
+        }
         s.trim_end_matches(['x', '%'])
             .parse()
             .unwrap_or_else(|_| panic!("`{s}` in `{line}` is not a number"))
     };
     Row {
-        ms: num(fields[n - 6]),
-        rmse: num(fields[n - 4]),
-        psnr_db: num(fields[n - 3]),
-        max_abs: num(fields[n - 2]),
-        share_percent: num(fields[n - 1]),
+        ms: num(fields[n - 8]),
+        rmse: num(fields[n - 6]),
+        psnr_db: num(fields[n - 5]),
+        max_abs: num(fields[n - 4]),
+        share_percent: num(fields[n - 3]),
+        mach: num(fields[n - 2]),
+        mach_ratio: num(fields[n - 1]),
     }
 }
 
@@ -93,8 +104,19 @@ fn assert_report(out: &Output, dir: &Path) -> String {
             let map = dir.join(format!("{}-error.png", file_stem(mode)));
             assert!(map.is_file(), "{} missing", map.display());
         }
+        let mach = dir.join(format!("{}-mach.png", file_stem(mode)));
+        assert!(mach.is_file(), "{} missing", mach.display());
+        assert!(
+            r.mach.is_nan() || r.mach >= 0.0,
+            "{mode}: mach {} is a jump size",
+            r.mach
+        );
     }
     let reference = row(&stdout, "reference");
+    assert!(
+        reference.mach_ratio.is_nan() || reference.mach_ratio == 1.0,
+        "{reference:?}"
+    );
     assert_eq!(reference.rmse, 0.0);
     assert_eq!(reference.max_abs, 0.0);
     assert!(reference.psnr_db.is_infinite());
@@ -138,7 +160,7 @@ fn on_s1_phong_is_closer_to_the_reference_than_gouraud() {
     let stdout = assert_report(&out, &dir);
     let phong = row(&stdout, "phong");
     let gouraud = row(&stdout, "gouraud");
-    // The seeds' claim: interpolating normals beats interpolating intensities.
+    // Phong 1975's claim: interpolating normals beats interpolating intensities.
     assert!(
         phong.rmse < gouraud.rmse,
         "phong {phong:?} vs gouraud {gouraud:?}"
@@ -161,5 +183,58 @@ fn a_bad_size_is_a_usage_error() {
     for bad in ["96", "0x72", "axb"] {
         let out = phosphor(&["accuracy", "--size", bad]);
         assert_eq!(out.status.code(), Some(2), "--size {bad}");
+    }
+}
+
+/// Most that `phong`'s Mach measure may exceed the reference's on the S1 sphere at 480x270
+/// (measured: 1.00, with flat at 2.59 and gouraud at 1.95).
+const PHONG_MACH_FACTOR: f64 = 1.1;
+
+#[test]
+fn on_the_s1_sphere_mach_bands_fall_from_flat_to_gouraud_to_phong() {
+    // The lecture notes: flat shading shows a band at every edge, Gouraud shading still shows
+    // them, Phong shading greatly reduces them. Measured against the reference's own jumps
+    // across the same edges, the ratios must fall in that order, and phong must come within
+    // PHONG_MACH_FACTOR of the reference.
+    let dir = out_dir("s1-sphere-mach");
+    let d = dir.to_str().expect("utf-8 path");
+    let out = phosphor(&[
+        "accuracy",
+        "assets/scenes/s1-sphere.toml",
+        "--size",
+        "480x270",
+        "--frames",
+        "1",
+        "--out-dir",
+        d,
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let [flat, gouraud, phong, reference] =
+        ["flat", "gouraud", "phong", "reference"].map(|m| row(&stdout, m));
+    assert!(
+        flat.mach_ratio > gouraud.mach_ratio,
+        "flat {flat:?} vs gouraud {gouraud:?}\n{stdout}"
+    );
+    assert!(
+        gouraud.mach_ratio > phong.mach_ratio,
+        "gouraud {gouraud:?} vs phong {phong:?}\n{stdout}"
+    );
+    assert!(
+        phong.mach_ratio <= PHONG_MACH_FACTOR,
+        "phong {phong:?} vs reference {reference:?}\n{stdout}"
+    );
+    assert!(reference.mach > 0.0, "{reference:?}");
+    assert!(
+        !stdout.contains("without a triangle id"),
+        "every covered pixel decodes to its triangle:\n{stdout}"
+    );
+    for mode in ["flat", "gouraud", "phong", "reference"] {
+        let bytes = std::fs::read(dir.join(format!("{mode}-mach.png"))).expect("mach map");
+        assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "{mode}-mach.png");
     }
 }

@@ -1,5 +1,5 @@
-//! `phosphor` end to end: every subcommand and flag, and the error paths with their messages
-//! and exit codes (DESIGN.md: 1 for input errors, 2 for usage errors, one `error:` line, and
+//! `phosphor` end to end: every subcommand and flag, and the error paths with their messages and
+//! exit codes (docs/conventions.md: 1 for input errors, 2 for usage errors, one `error:` line, and
 //! no output file created or replaced on failure).
 
 #![allow(clippy::unwrap_used)]

@@ -20,8 +20,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use clap::Parser;
+use clap::{CommandFactory, Parser};
 use phosphor_lighting::Light;
+use phosphor_output::image::{Transfer, write_png};
+use phosphor_output::{memory, term};
+use phosphor_raster::encode::Encoder;
 use phosphor_raster::{Camera, Encoding, Framebuffer, ShadingMode};
 use phosphor_scene::view::camera_toml;
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
@@ -45,8 +48,9 @@ const MAX_SIDE: u32 = 16_384;
 struct Args {
     /// Scene file (TOML); the embedded default scene when absent.
     scene: Option<PathBuf>,
-    /// Show this OBJ mesh under S1's lights and material instead of a scene file, framed to fit
-    /// the window from a three-quarter angle (azimuth 30, elevation 20).
+    /// Show this mesh (OBJ, PLY, STL, glTF or GLB, by extension) under S1's lights and material
+    /// instead of a scene file, framed to fit the window from a three-quarter angle (azimuth
+    /// 30, elevation 20).
     #[arg(long, value_name = "FILE.obj", conflicts_with = "scene")]
     mesh: Option<PathBuf>,
     /// Window inner size in physical pixels.
@@ -59,7 +63,7 @@ struct Args {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     frames: Option<u32>,
     /// Write the last frame as PNG before exiting (after --frames frames, default 1).
-    #[arg(long, value_name = "FILE.png")]
+    #[arg(long, value_name = "FILE.png", value_parser = parse_png_path)]
     screenshot: Option<PathBuf>,
     /// Camera flags.
     #[command(flatten)]
@@ -67,7 +71,28 @@ struct Args {
     /// Normal flags of --mesh.
     #[command(flatten)]
     normals: view::NormalArgs,
+    /// Let --screenshot replace a read-only file, or write into a device or FIFO.
+    #[arg(long)]
+    force: bool,
 }
+
+/// A screenshot path: it must end in `.png`, the only format the viewer writes.
+fn parse_png_path(text: &str) -> Result<PathBuf, String> {
+    let path = PathBuf::from(text);
+    let is_png = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if is_png {
+        Ok(path)
+    } else {
+        Err("must end in .png (screenshots are PNG)".to_owned())
+    }
+}
+
+/// Bytes per pixel of a window's frame: the framebuffer (RGB f32 and depth) and the 32-bit
+/// pixels presented.
+const WINDOW_BYTES_PER_PIXEL: u64 = 16 + 4;
 
 /// Parses a shading name: `auto` or one of the modes.
 fn parse_shading(text: &str) -> Result<ShadingChoice, String> {
@@ -115,6 +140,8 @@ struct Viewer {
     bump: bool,
     perspective_correct: bool,
     fb: Option<Framebuffer>,
+    /// `--force` for the screenshot.
+    force: bool,
     /// Milliseconds of the last frame (plan + raster), and a smoothed frames-per-second.
     last_ms: f64,
     fps: f64,
@@ -136,6 +163,7 @@ impl Viewer {
             shading: None,
             bump: true,
             fb: None,
+            force: false,
             last_ms: 0.0,
             fps: 0.0,
             triangles: 0,
@@ -217,7 +245,7 @@ impl View for Viewer {
     fn apply(&mut self, action: Action, height: u32) -> bool {
         match action {
             Action::Help => {
-                println!("{KEY_HELP}");
+                term::say(KEY_HELP);
                 false
             }
             Action::Orbit { dx, dy } => {
@@ -246,11 +274,11 @@ impl View for Viewer {
                 };
                 if let Ok(mut light) = self.scene.world.get::<&mut Light>(e) {
                     light.enabled = !light.enabled;
-                    println!(
+                    term::say(&format!(
                         "light {} {}",
                         n + 1,
                         if light.enabled { "on" } else { "off" }
-                    );
+                    ));
                 }
                 true
             }
@@ -267,7 +295,7 @@ impl View for Viewer {
                 true
             }
             Action::PrintCamera => {
-                print!("{}", self.camera_block());
+                term::say(self.camera_block().trim_end());
                 false
             }
             Action::Screenshot => {
@@ -276,8 +304,8 @@ impl View for Viewer {
                         .ok_or_else(|| "999 screenshots already beside the scene".to_owned())
                         .and_then(|path| self.save_screenshot(&path).map(|()| path));
                 match saved {
-                    Ok(path) => println!("saved {}", path.display()),
-                    Err(e) => eprintln!("warning: screenshot not saved: {e}"),
+                    Ok(path) => term::say(&format!("saved {}", path.display())),
+                    Err(e) => term::warn(&format!("screenshot not saved: {e}")),
                 }
                 false
             }
@@ -287,8 +315,37 @@ impl View for Viewer {
 
     fn save_screenshot(&self, path: &Path) -> Result<(), String> {
         let fb = self.fb.as_ref().ok_or("no frame drawn yet")?;
-        // The window shows sRGB (Framebuffer::write_0rgb); the screenshot is the same bytes.
-        fb.save_png(path, Encoding::Srgb).map_err(|e| e.to_string())
+        // The window shows sRGB (Framebuffer::write_0rgb); the screenshot holds the same
+        // bytes, tagged sRGB so that image viewers show what the window showed.
+        let encoder = Encoder::new(Encoding::Srgb);
+        let width = fb.width() as usize;
+        let colour = fb.color();
+        let mut row = |y: u32, line: &mut [u8]| {
+            let start = y as usize * width;
+            for (px, c) in line.chunks_exact_mut(3).zip(&colour[start..start + width]) {
+                px.copy_from_slice(&[
+                    encoder.encode(c.x),
+                    encoder.encode(c.y),
+                    encoder.encode(c.z),
+                ]);
+            }
+        };
+        let size = (fb.width(), fb.height());
+        write_png(
+            path,
+            self.force,
+            size,
+            Transfer::Srgb,
+            &mut row,
+            &mut |_| {},
+        )
+        .map_err(|e| {
+            if e.forceable() {
+                format!("{e} (--force writes it anyway)")
+            } else {
+                e.to_string()
+            }
+        })
     }
 }
 
@@ -302,15 +359,22 @@ fn load(args: &Args, normals: phosphor_mesh::NormalOptions) -> Result<Scene, Str
     }
     .map_err(|e| e.to_string())?;
     for w in &scene.warnings {
-        eprintln!("{w}");
+        term::warn(w);
     }
     Ok(scene)
 }
 
+/// One `error:` line on stderr and exit status 1.
+fn fail(message: &str) -> ExitCode {
+    term::tell(&format!("error: {message}"));
+    ExitCode::from(1)
+}
+
 fn main() -> ExitCode {
-    let args = Args::parse();
+    // Usage errors: one line naming the flag, exit 2; --help and --version: stdout, exit 0.
+    let args = term::parse_or_exit(Args::try_parse(), &Args::command());
     let usage = |e: String| {
-        eprintln!("error: {e}");
+        term::tell(&format!("error: {e}"));
         ExitCode::from(2)
     };
     let (change, normals) = match (
@@ -320,12 +384,28 @@ fn main() -> ExitCode {
         (Ok(c), Ok(n)) => (c, n),
         (Err(e), _) | (_, Err(e)) => return usage(e),
     };
+    if let Some(path) = &args.screenshot {
+        // A refused screenshot is said before the window opens, not after the frames.
+        if let Err(e) = phosphor_output::check(path, args.force) {
+            return fail(&if e.forceable() {
+                format!("{e} (--force writes it anyway)")
+            } else {
+                e.to_string()
+            });
+        }
+    }
+    let size = args.size.unwrap_or(DEFAULT_SIZE);
+    let field = if args.size.is_some() {
+        "--size"
+    } else {
+        "the window size"
+    };
+    if let Err(e) = memory::check_image(field, size, WINDOW_BYTES_PER_PIXEL) {
+        return fail(&e);
+    }
     let mut scene = match load(&args, normals) {
         Ok(s) => s,
-        Err(e) => {
-            eprintln!("error: {}", e.lines().collect::<Vec<_>>().join(" "));
-            return ExitCode::from(1);
-        }
+        Err(e) => return fail(&e),
     };
     let size = args.size.unwrap_or(DEFAULT_SIZE);
     let frame_mesh = args.scene.is_none() && args.mesh.is_some();
@@ -336,8 +416,9 @@ fn main() -> ExitCode {
     viewer.scene_file = args.scene.clone();
     viewer.mesh_file = args.mesh.clone();
     viewer.shading = args.shading.filter(|s| *s != ShadingChoice::Auto);
+    viewer.force = args.force;
     if args.frames.is_none() {
-        println!("{KEY_HELP}");
+        term::say(KEY_HELP);
     }
     let options = WindowOptions {
         size,
@@ -349,25 +430,20 @@ fn main() -> ExitCode {
         Ok(viewer) => {
             if frames_mode && viewer.frames > 0 {
                 let mean = viewer.total_ms / f64::from(viewer.frames);
-                println!(
+                term::say(&format!(
                     "frames={} mean_ms={mean:.2} fps={:.1} triangles={}",
                     viewer.frames,
                     1e3 / mean.max(1e-3),
                     viewer.triangles
-                );
+                ));
             }
+            term::finish_stdout();
             ExitCode::SUCCESS
         }
-        Err(WindowError::NoDisplay(why)) => {
-            eprintln!(
-                "error: no display available ({why}); use `phosphor render` to render to a file"
-            );
-            ExitCode::from(1)
-        }
-        Err(WindowError::Failed(why)) => {
-            eprintln!("error: {why}");
-            ExitCode::from(1)
-        }
+        Err(WindowError::NoDisplay(why)) => fail(&format!(
+            "no display available ({why}); use `phosphor render` to render to a file"
+        )),
+        Err(WindowError::Failed(why)) => fail(&why),
     }
 }
 

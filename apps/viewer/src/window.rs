@@ -1,10 +1,11 @@
 //! The winit + softbuffer boilerplate: the event loop, the window, presenting pixels.
 //!
-//! Structure after ECOSYSTEM.md 2.1 (winit 0.30 `ApplicationHandler`, softbuffer 0.4): the
-//! softbuffer context is made before `run_app`, the window and surface in `resumed`, and frames
-//! are drawn only in `RedrawRequested`. The loop waits (`ControlFlow::Wait`): a frame is drawn only
-//! when input changed something, so an idle viewer uses no CPU. What is drawn is up to a [`View`]
-//! (implemented in `main.rs`); this file knows nothing of scenes.
+//! Structure as winit 0.30 documents it (docs/conventions.md, "Dependency facts"; winit 0.30
+//! `ApplicationHandler`, softbuffer 0.4): the softbuffer context is made before `run_app`, the
+//! window and surface in `resumed`, and frames are drawn only in `RedrawRequested`. The loop waits
+//! (`ControlFlow::Wait`): a frame is drawn only when input changed something, so an idle viewer
+//! uses no CPU. What is drawn is up to a [`View`] (implemented in `main.rs`); this file knows
+//! nothing of scenes.
 
 use std::num::NonZeroU32;
 use std::path::PathBuf;

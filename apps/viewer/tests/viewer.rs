@@ -1,5 +1,6 @@
-//! The viewer binary end to end. winit's event loop must run on the main thread, once per
-//! process, so these tests spawn `phosphor-viewer` rather than calling it (ECOSYSTEM.md 2.3).
+//! The viewer binary end to end. winit's event loop must run on the main thread, once per process,
+//! so these tests spawn `phosphor-viewer` rather than calling it (docs/conventions.md, "Dependency
+//! facts").
 
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -66,6 +67,61 @@ fn a_bad_size_is_a_usage_error() {
     assert!(text(&out.stderr).contains("WxH"));
 }
 
+#[test]
+fn a_screenshot_that_is_not_png_is_a_one_line_usage_error() {
+    let mut cmd = viewer();
+    cmd.args(["--frames", "1", "--screenshot", "shot.jpg"]);
+    let out = run_with_timeout(cmd);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert_eq!(
+        stderr,
+        "error: --screenshot: invalid value 'shot.jpg': must end in .png (screenshots are PNG)\n"
+    );
+}
+
+#[test]
+fn a_read_only_screenshot_is_refused_before_any_window_opens() {
+    let dir = std::env::temp_dir().join(format!("phosphor-viewer-ro-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let shot = dir.join("kept.png");
+    std::fs::write(&shot, b"precious").expect("write");
+    let mut perms = std::fs::metadata(&shot).expect("metadata").permissions();
+    perms.set_readonly(true);
+    std::fs::set_permissions(&shot, perms).expect("chmod");
+    let mut cmd = viewer();
+    cmd.env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .args(["--frames", "1", "--screenshot"])
+        .arg(&shot);
+    let out = run_with_timeout(cmd);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(
+        stderr,
+        format!(
+            "error: {}: is read-only (--force writes it anyway)\n",
+            shot.display()
+        )
+    );
+    assert_eq!(std::fs::read(&shot).expect("read"), b"precious");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn usage_errors_are_one_line() {
+    for args in [&["--size", "wide"][..], &["--frames", "0"], &["--bogus"]] {
+        let mut cmd = viewer();
+        cmd.args(args);
+        let out = run_with_timeout(cmd);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.starts_with("error: --"), "{args:?}: {stderr}");
+    }
+}
+
 /// Distinct colours in an RGB8 image, counted on a coarse 4-bit-per-channel grid so that
 /// shading gradients count once per band.
 fn distinct_colours(img: &image::RgbImage) -> usize {
@@ -77,13 +133,12 @@ fn distinct_colours(img: &image::RgbImage) -> usize {
 }
 
 #[test]
+#[cfg_attr(
+    not(has_xvfb),
+    ignore = "needs xvfb-run (Debian package `xvfb`) on the PATH when built; .ci/run installs it"
+)]
 fn headless_viewer_renders_the_default_scene_to_a_screenshot() {
-    // CI installs Xvfb (.ci/run); the test must not pass without having run the viewer.
-    let xvfb = Command::new("xvfb-run").arg("--help").output();
-    assert!(
-        xvfb.is_ok(),
-        "xvfb-run is required for this test (Debian package `xvfb`; .ci/run installs it)"
-    );
+    // Built only where the build script found xvfb-run; it must run the viewer to pass.
     let dir = std::env::temp_dir().join(format!("phosphor-viewer-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let shot = dir.join("shot.png");
@@ -98,6 +153,10 @@ fn headless_viewer_renders_the_default_scene_to_a_screenshot() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
     assert!(stdout.contains("frames=10 "), "{stdout}");
+    // Tagged sRGB, as the window shows it: an sRGB chunk before the image data.
+    let bytes = std::fs::read(&shot).expect("screenshot");
+    let at = |tag: &[u8]| bytes.windows(4).position(|w| w == tag);
+    assert!(at(b"sRGB").zip(at(b"IDAT")).is_some_and(|(s, d)| s < d));
     let img = image::open(&shot).expect("screenshot readable").to_rgb8();
     assert_eq!(img.dimensions(), (320, 180));
     // The default scene's background is dark; objects cover a good part of the view.

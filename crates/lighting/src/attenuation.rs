@@ -1,9 +1,9 @@
 //! Distance attenuation `f(d)` of positional lights.
 //!
-//! Which to pick: the seeds report that the physical inverse-square law `1/d^2` "produced too
-//! much contrast" (a display cannot show the range between near and far surfaces) and that the
-//! empirical `1/(K+d)` "produced a much more acceptable picture". Use [`Attenuation::Offset`]
-//! (S1 uses `K = 1`) unless you want physics ([`Attenuation::InverseSquare`]) or OpenGL's
+//! Which to pick: the lecture notes report that the physical inverse-square law `1/d^2` "produced
+//! too much contrast" (a display cannot show the range between near and far surfaces) and that the
+//! empirical `1/(K+d)` "produced a much more acceptable picture". Use [`Attenuation::Offset`] (S1
+//! uses `K = 1`) unless you want physics ([`Attenuation::InverseSquare`]) or OpenGL's
 //! constant-linear-quadratic form ([`Attenuation::Quadratic`]). Directional lights are never
 //! attenuated.
 //!
@@ -26,11 +26,11 @@ pub enum Attenuation {
     /// `f = 1`: no fall-off with distance.
     #[default]
     None,
-    /// The physical law `f = 1/d^2` (too much contrast, say the seeds).
+    /// The physical law `f = 1/d^2` (too much contrast, say the lecture notes).
     InverseSquare,
-    /// The seeds' empirical `f = 1/(K + d)`.
+    /// The lecture notes' empirical `f = 1/(K + d)`.
     Offset {
-        /// The seeds' `K`, "determined experimentally after the scene is generated".
+        /// The lecture notes' `K`, "determined experimentally after the scene is generated".
         k: f32,
     },
     /// OpenGL's `f = 1/(c + l d + q d^2)`.
@@ -131,8 +131,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn offset_matches_the_seeds_one_over_k_plus_d() {
-        // seeds: f = 1/(K+d); K = 1, d = 3 -> 0.25; K = 0.5, d = 1.5 -> 0.5.
+    fn offset_matches_the_notes_one_over_k_plus_d() {
+        // The lecture notes' f = 1/(K+d): K = 1, d = 3 -> 0.25; K = 0.5, d = 1.5 -> 0.5.
         assert!((Attenuation::Offset { k: 1.0 }.factor(3.0) - 0.25).abs() < 1e-6);
         assert!((Attenuation::Offset { k: 0.5 }.factor(1.5) - 0.5).abs() < 1e-6);
     }

@@ -26,11 +26,12 @@
 use std::f32::consts::PI;
 
 use glam::Vec3;
-use phosphor_math::{clamped_pow, reflect, safe_normalize};
+use phosphor_math::{reflect, safe_normalize};
 
 use crate::attenuation::factor_from_coefficients;
 use crate::effects::Effects;
 use crate::lightset::{LightSet, PreparedPoint};
+use crate::lobe::specular_lobe;
 use crate::material::{Material, SpecularModel};
 use crate::shade::finite_intensity;
 
@@ -127,7 +128,8 @@ impl<'a> Corners<'a> {
         if closest.is_nan() || closest <= 0.0 {
             1.0
         } else {
-            clamped_pow(closest.cos(), self.mat.shininess)
+            // The lobe is monotonic in the cosine, so the closest angle gives the largest.
+            specular_lobe(closest.cos(), self.mat.shininess)
         }
     }
 }

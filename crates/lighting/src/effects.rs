@@ -13,7 +13,7 @@ use std::ops::{BitAnd, BitOr, BitOrAssign, Not};
 pub struct Effects(u32);
 
 impl Effects {
-    /// The seeds' `I = Ia Ka` term (`ka * Ia`).
+    /// The lecture notes' `I = Ia Ka` term (`ka * Ia`).
     pub const AMBIENT: Effects = Effects(1 << 0);
     /// Lambert's `Kd Il (N.L)`.
     pub const DIFFUSE: Effects = Effects(1 << 1);
@@ -27,7 +27,7 @@ impl Effects {
     pub const SPOT: Effects = Effects(1 << 5);
     /// Distributed (tube, rect) lights' point samples are evaluated (otherwise skipped).
     pub const DISTRIBUTED: Effects = Effects(1 << 6);
-    /// The self-luminous term `I = Ka` of the seeds (`Material::emission`).
+    /// The lecture notes' self-luminous term `I = Ka` (`Material::emission`).
     pub const EMISSION: Effects = Effects(1 << 7);
     /// Bump mapping (normal perturbation, done by the rasterizer; no term here).
     pub const BUMP: Effects = Effects(1 << 8);

@@ -37,6 +37,27 @@ pub enum LightingError {
         /// The allowed range, in words.
         range: &'static str,
     },
+    /// A value that another field rules out.
+    #[error("{field}: {reason}, got {value}")]
+    Conflict {
+        /// The offending field.
+        field: &'static str,
+        /// The offending value (one channel for colours).
+        value: f32,
+        /// What the other field requires, in words.
+        reason: &'static str,
+    },
+    /// A count (a number of samples) lies outside its allowed range; the value is kept as the
+    /// whole number it was, so that the message echoes it exactly.
+    #[error("{field}: must be in {range}, got {value}")]
+    CountOutOfRange {
+        /// The offending field.
+        field: &'static str,
+        /// The offending count.
+        value: u32,
+        /// The allowed range, in words.
+        range: &'static str,
+    },
     /// A name (from a scene file) is not one of the known ones.
     #[error("{field}: unknown name {name:?}, expected {expected}")]
     UnknownName {
@@ -53,6 +74,22 @@ pub enum LightingError {
 pub(crate) fn check_scalar(field: &'static str, value: f32) -> Result<(), LightingError> {
     if !value.is_finite() {
         return Err(LightingError::NonFinite { field, value });
+    }
+    if value < 0.0 {
+        return Err(LightingError::Negative { field, value });
+    }
+    Ok(())
+}
+
+/// Checks a specular exponent: non-negative, finite or `+inf` (the perfect mirror).
+pub(crate) fn check_shininess(value: f32) -> Result<(), LightingError> {
+    let field = "shininess";
+    if value.is_nan() {
+        return Err(LightingError::OutOfRange {
+            field,
+            value,
+            range: "[0, inf]",
+        });
     }
     if value < 0.0 {
         return Err(LightingError::Negative { field, value });

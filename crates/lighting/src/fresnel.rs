@@ -1,17 +1,73 @@
-//! The seeds' specular-reflection coefficient `W(theta)` (Fresnel's laws), `theta` the angle of
-//! incidence, `cos theta = N.L`.
+//! The lecture notes' specular-reflection coefficient `W(theta)` (Fresnel's laws), `theta` the
+//! angle of incidence, `cos theta = N.L`, and how it enters the specular term ([`FresnelMode`]).
+//!
+//! The notes write the specular term `I_spec = W(theta) Il cos^ns phi`, with `W` the whole
+//! coefficient, and replace `W` by a constant `Ks` for materials whose reflectance does not
+//! depend on the angle. The shading code always evaluates `ks W(theta)`: under
+//! [`FresnelMode::Scale`] `ks` is the material's, under [`FresnelMode::Replace`] it is held at 1,
+//! so the coefficient is `1 W(theta) = W(theta)`, the notes' form. Both are tested against
+//! hand-computed values.
+
+use std::fmt;
+use std::str::FromStr;
 
 use crate::error::{LightingError, check_scalar};
 
+/// How `W(theta)` enters the specular coefficient.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FresnelMode {
+    /// `ks W(theta)`: `W` shapes the change of reflectance with the angle, `ks` sets its colour
+    /// and strength (a metal's tinted `ks` under Schlick's curve).
+    #[default]
+    Scale,
+    /// `W(theta)` alone, the lecture notes' `I_spec = W(theta) Il cos^ns phi`: the material's
+    /// `ks` must be 1 ([`crate::Material::with_fresnel_mode`] sets it), so `ks W = W`.
+    Replace,
+}
+
+impl FresnelMode {
+    /// The scene-file name: `"scale"` or `"replace"`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            FresnelMode::Scale => "scale",
+            FresnelMode::Replace => "replace",
+        }
+    }
+}
+
+impl fmt::Display for FresnelMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Parses the scene-file names `"scale"` and `"replace"` (ASCII case-insensitive).
+impl FromStr for FresnelMode {
+    type Err = LightingError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "scale" => Ok(FresnelMode::Scale),
+            "replace" => Ok(FresnelMode::Replace),
+            _ => Err(LightingError::UnknownName {
+                field: "fresnel.mode",
+                name: s.to_owned(),
+                expected: "\"scale\" or \"replace\"",
+            }),
+        }
+    }
+}
+
 /// Glass-like reflectance at normal incidence: "at theta = 0 about 4 percent of the incident
-/// light on a glass surface is reflected" (seeds).
+/// light on a glass surface is reflected" (the lecture notes).
 pub const GLASS_F0: f32 = 0.04;
 
 /// How the specular coefficient varies with the angle of incidence.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Fresnel {
     /// `W = 1`: the material's `ks` is used as is ("for many opaque materials, specular
-    /// reflection is nearly constant for all incidence angles", seeds).
+    /// reflection is nearly constant for all incidence angles", the lecture notes).
     #[default]
     None,
     /// `W = w` for every angle (scales `ks`).
@@ -20,7 +76,7 @@ pub enum Fresnel {
         w: f32,
     },
     /// Schlick's approximation `W = f0 + (1 - f0)(1 - cos theta)^5`: `f0` at normal incidence,
-    /// rising to 1 at 90 degrees, as the seeds describe for glass ([`GLASS_F0`]).
+    /// rising to 1 at 90 degrees, as the lecture notes describe for glass ([`GLASS_F0`]).
     Schlick {
         /// Reflectance at normal incidence, in `[0, 1]`.
         f0: f32,
@@ -119,7 +175,7 @@ mod tests {
         let glass = Fresnel::Schlick { f0: GLASS_F0 };
         assert!((glass.w(1.0) - 0.04).abs() < 1e-7);
         assert!((glass.w(0.0) - 1.0).abs() < 1e-7);
-        // W(theta) increases with the angle of incidence (seeds).
+        // W(theta) increases with the angle of incidence (the lecture notes).
         let mut last = glass.w(1.0);
         for i in (0..100).rev() {
             let w = glass.w(i as f32 / 100.0);

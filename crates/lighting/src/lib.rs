@@ -1,13 +1,16 @@
-//! The classic illumination models as pure functions over plain data (the seeds' vocabulary:
-//! `I = Ka`, `I = Ia Ka`, Lambert `Kd Il (N.L)`, Phong `W(theta) Il (V.R)^ns` with
-//! `R = 2(N.L)N - L`, attenuation `1/(K+d)`, distributed light sources).
+//! The classic illumination models as pure functions over plain data (the lecture notes'
+//! vocabulary, docs/conventions.md: `I = Ka`, `I = Ia Ka`, Lambert `Kd Il (N.L)`, Phong 1975's
+//! `W(theta) Il (V.R)^ns` with `R = 2(N.L)N - L`, attenuation `1/(K+d)`, distributed light
+//! sources).
 //!
 //! The model, per RGB channel (x = r, y = g, z = b), all intensities linear:
 //!
 //! `I = emission + ka Ia + sum over lights f(d) Il [kd max(N.L,0) + ks W(theta) max(V.R,0)^n_s]`
 //!
 //! with the specular term 0 where `N.L <= 0`. [`Material`] holds `ka, kd, ks, n_s`, the
-//! [`SpecularModel`] and the [`Fresnel`] `W(theta)`; [`Light`] is a directional, point, spot,
+//! [`SpecularModel`] and the [`Fresnel`] `W(theta)` with its [`FresnelMode`] (`W` scales `ks`,
+//! or replaces it as the notes' `I_spec = W(theta) Il cos^ns phi` does, `ks` then held at 1);
+//! `n_s = inf` is the notes' perfect reflector ([`lobe`]); [`Light`] is a directional, point, spot,
 //! tube or rect source with its [`Attenuation`]; [`LightSet`] prepares them once per draw.
 //! [`shade()`] is generic over the [`Effects`] bits so an absent term costs nothing;
 //! [`shade_split()`] keeps the ambient, diffuse and specular sums apart (fast Phong);
@@ -21,8 +24,8 @@
 //! the normal with the attenuation factor capped at `1/MIN_ATTENUATION_DENOMINATOR`; results
 //! are clamped to `[0, f32::MAX]` by [`finite_intensity`].
 //!
-//! Attenuation: pick [`Attenuation::Offset`] (the seeds' `1/(K+d)`, S1 uses `K = 1`); the
-//! seeds found the physical `1/d^2` "produced too much contrast" ([`attenuation`] explains).
+//! Attenuation: pick [`Attenuation::Offset`] (the lecture notes' `1/(K+d)`, S1 uses `K = 1`);
+//! the notes found the physical `1/d^2` "produced too much contrast" ([`attenuation`] explains).
 //!
 //! Effects: `shade::<FX>` evaluates only the terms whose [`Effects`] bit is in `FX`; with the
 //! absent terms' coefficients zero (or their lights absent) it equals `shade::<{ALL}>`
@@ -137,6 +140,7 @@ mod error;
 pub mod fresnel;
 pub mod light;
 pub mod lightset;
+pub mod lobe;
 pub mod material;
 pub mod pow_table;
 pub mod reference;
@@ -147,9 +151,10 @@ pub use attenuation::{Attenuation, MAX_LIGHT_DISTANCE, MIN_ATTENUATION_DENOMINAT
 pub use bound::{lobe_sharpness, specular_upper_bound};
 pub use effects::Effects;
 pub use error::LightingError;
-pub use fresnel::{Fresnel, GLASS_F0};
+pub use fresnel::{Fresnel, FresnelMode, GLASS_F0};
 pub use light::{Light, LightKind, MAX_SAMPLES_PER_EDGE};
 pub use lightset::{LightSet, PreparedDirectional, PreparedPoint, PreparedSpot, effects_for};
+pub use lobe::{MIRROR_COS_TOLERANCE, specular_lobe, specular_lobe_f64};
 pub use material::{Material, SpecularModel};
 pub use pow_table::PowTable;
 pub use reference::shade_reference;

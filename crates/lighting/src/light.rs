@@ -1,4 +1,4 @@
-//! Light sources: the seeds' point sources, plus directional, spot and distributed (tube,
+//! Light sources: the lecture notes' point sources, plus directional, spot and distributed (tube,
 //! rect) lights. The ambient light `Ia` is not a `Light`: [`crate::LightSet`] holds it.
 
 use glam::Vec3;
@@ -19,7 +19,7 @@ pub enum LightKind {
         /// Travel direction (need not be unit).
         direction: Vec3,
     },
-    /// The seeds' point source, radiating uniformly in all directions.
+    /// The lecture notes' point source, radiating uniformly in all directions.
     Point {
         /// World position.
         position: Vec3,
@@ -36,7 +36,7 @@ pub enum LightKind {
         /// Half-angle where the light reaches zero, degrees, `<= 180`.
         outer_deg: f32,
     },
-    /// The seeds' distributed source (a fluorescent tube): the segment `start..end`,
+    /// The lecture notes' distributed source (a fluorescent tube): the segment `start..end`,
     /// integrated as `samples` point lights at the midpoints of equal sub-segments, each with
     /// `intensity / samples`.
     Tube {
@@ -63,7 +63,7 @@ pub enum LightKind {
 }
 
 /// A light: kind, RGB intensity `Il`, an optional separate intensity for the specular term (as
-/// the seeds note OpenGL allows), attenuation and an on/off switch.
+/// the lecture notes say OpenGL allows), attenuation and an on/off switch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
     /// Position, direction and spread.
@@ -114,8 +114,8 @@ impl Light {
         Light::new(LightKind::Directional { direction }, intensity)
     }
 
-    /// The standard scene S1's point lights, all with the seeds' `f(d) = 1/(1 + d)`:
-    /// `(2,2,2)` Il 3.0; `(-2,1,1)` Il (2.0, 2.0, 2.4); `(0,-2,2)` Il 1.2.
+    /// The standard scene S1's point lights, all with the lecture notes' `f(d) = 1/(K + d)` at
+    /// `K = 1`: `(2,2,2)` Il 3.0; `(-2,1,1)` Il (2.0, 2.0, 2.4); `(0,-2,2)` Il 1.2.
     #[must_use]
     pub const fn s1_lights() -> [Light; 3] {
         const fn s1_point(position: Vec3, intensity: Vec3) -> Light {
@@ -233,9 +233,9 @@ impl Light {
 
 fn check_samples(samples: u32) -> Result<(), LightingError> {
     if samples == 0 || samples > MAX_SAMPLES_PER_EDGE {
-        return Err(LightingError::OutOfRange {
+        return Err(LightingError::CountOutOfRange {
             field: "samples",
-            value: samples as f32,
+            value: samples,
             range: "[1, 256]",
         });
     }
@@ -289,7 +289,22 @@ mod tests {
     }
 
     #[test]
-    fn s1_lights_match_the_design() {
+    fn sample_counts_are_echoed_as_given() {
+        // Through f32 the largest u32 would read 4294967300.
+        let rect = LightKind::Rect {
+            corner: Vec3::ZERO,
+            edge_u: Vec3::X,
+            edge_v: Vec3::Y,
+            samples: u32::MAX,
+        };
+        assert_eq!(
+            Light::new(rect, Vec3::ONE).unwrap_err().to_string(),
+            "samples: must be in [1, 256], got 4294967295"
+        );
+    }
+
+    #[test]
+    fn s1_lights_match_the_s1_definition() {
         let [a, b, c] = Light::s1_lights();
         assert_eq!(
             a.kind,

@@ -16,7 +16,8 @@ pub const MIN_SPOT_COS_WIDTH: f32 = 1e-6;
 /// A directional light, prepared.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PreparedDirectional {
-    /// Unit vector from the surface towards the light (`-direction`, normalized): the seeds' L.
+    /// Unit vector from the surface towards the light (`-direction`, normalized): the lecture
+    /// notes' L.
     pub to_light: Vec3,
     /// Diffuse `Il`.
     pub il: Vec3,
@@ -100,7 +101,7 @@ fn sanitize_rgb(v: Vec3) -> Vec3 {
 }
 
 impl LightSet {
-    /// Prepares `lights` under the ambient light `ambient` (the seeds' `Ia`).
+    /// Prepares `lights` under the ambient light `ambient` (the lecture notes' `Ia`).
     #[must_use]
     pub fn new(ambient: Vec3, lights: &[Light]) -> LightSet {
         let mut set = LightSet {

@@ -1,4 +1,4 @@
-//! Surface optical properties: the seeds' `ka`, `kd`, `ks`, `n_s`, `W(theta)` and the
+//! Surface optical properties: the lecture notes' `ka`, `kd`, `ks`, `n_s`, `W(theta)` and the
 //! self-luminous intensity.
 
 use std::fmt;
@@ -7,13 +7,13 @@ use std::str::FromStr;
 use glam::Vec3;
 
 use crate::effects::Effects;
-use crate::error::{LightingError, check_rgb, check_scalar};
-use crate::fresnel::Fresnel;
+use crate::error::{LightingError, check_rgb, check_shininess};
+use crate::fresnel::{Fresnel, FresnelMode};
 
 /// Which specular lobe a material uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SpecularModel {
-    /// Phong: `(V.R)^n_s` with `R = 2(N.L)N - L` (seeds).
+    /// Phong: `(V.R)^n_s` with `R = 2(N.L)N - L` (Phong 1975).
     #[default]
     Phong,
     /// Blinn: `(N.H)^n_s` with the half vector `H = (L + V)/|L + V|`.
@@ -61,19 +61,24 @@ impl FromStr for SpecularModel {
 /// give the documented bounds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Material {
-    /// Ambient-reflection coefficient `Ka` (seeds: `I = Ia Ka`).
+    /// Ambient-reflection coefficient `Ka` (the lecture notes' `I = Ia Ka`).
     pub ka: Vec3,
     /// Diffuse-reflection coefficient `Kd` (Lambert).
     pub kd: Vec3,
-    /// Specular-reflection coefficient `Ks` (the seeds' constant `W(theta)`).
+    /// Specular-reflection coefficient `Ks` (the lecture notes' constant in place of `W(theta)`);
+    /// 1 under [`FresnelMode::Replace`].
     pub ks: Vec3,
-    /// Specular-reflection parameter `n_s` (large: shiny; 1: dull; 0: no fall-off).
+    /// Specular-reflection parameter `n_s` (large: shiny; 1: dull; 0: no fall-off; `+inf`: the
+    /// perfect mirror of [`crate::lobe`]).
     pub shininess: f32,
     /// Phong or Blinn lobe.
     pub specular: SpecularModel,
     /// `W(theta)`: multiplies `ks` per angle of incidence.
     pub fresnel: Fresnel,
-    /// Self-luminous intensity added as is (seeds: `I = Ka` for "self-luminous objects").
+    /// Whether `W(theta)` scales `ks` or is the whole coefficient (then `ks = 1`).
+    pub fresnel_mode: FresnelMode,
+    /// Self-luminous intensity added as is (the lecture notes' `I = Ka` for "self-luminous
+    /// objects").
     pub emission: Vec3,
 }
 
@@ -87,6 +92,7 @@ impl Default for Material {
             shininess: 1.0,
             specular: SpecularModel::Phong,
             fresnel: Fresnel::None,
+            fresnel_mode: FresnelMode::Scale,
             emission: Vec3::ZERO,
         }
     }
@@ -106,6 +112,7 @@ impl Material {
             shininess,
             specular: SpecularModel::Phong,
             fresnel: Fresnel::None,
+            fresnel_mode: FresnelMode::Scale,
             emission: Vec3::ZERO,
         };
         m.validate()?;
@@ -123,6 +130,7 @@ impl Material {
             shininess: 32.0,
             specular: SpecularModel::Phong,
             fresnel: Fresnel::None,
+            fresnel_mode: FresnelMode::Scale,
             emission: Vec3::ZERO,
         }
     }
@@ -144,6 +152,18 @@ impl Material {
         Ok(self)
     }
 
+    /// This material with `W(theta)` entering the specular coefficient as `mode` says:
+    /// [`FresnelMode::Replace`] also sets `ks` to 1, so that the coefficient `ks W(theta)` is
+    /// `W(theta)` alone (the lecture notes' form); [`FresnelMode::Scale`] keeps `ks`.
+    #[must_use]
+    pub fn with_fresnel_mode(mut self, mode: FresnelMode) -> Material {
+        self.fresnel_mode = mode;
+        if mode == FresnelMode::Replace {
+            self.ks = Vec3::ONE;
+        }
+        self
+    }
+
     /// This material with a self-luminous intensity.
     ///
     /// # Errors
@@ -154,7 +174,9 @@ impl Material {
         Ok(self)
     }
 
-    /// Checks every field is finite and non-negative (`f0` also at most 1).
+    /// Checks every field is finite and non-negative, except `shininess`, which may also be
+    /// `+inf` (the perfect mirror); `f0` at most 1; `ks` exactly 1 under
+    /// [`FresnelMode::Replace`].
     ///
     /// # Errors
     /// [`LightingError`] naming the first bad field.
@@ -162,7 +184,16 @@ impl Material {
         check_rgb("ka", self.ka)?;
         check_rgb("kd", self.kd)?;
         check_rgb("ks", self.ks)?;
-        check_scalar("shininess", self.shininess)?;
+        if self.fresnel_mode == FresnelMode::Replace
+            && let Some(value) = self.ks.to_array().into_iter().find(|&k| k != 1.0)
+        {
+            return Err(LightingError::Conflict {
+                field: "ks",
+                value,
+                reason: "must be 1 under fresnel mode \"replace\" (W(theta) is the whole specular coefficient)",
+            });
+        }
+        check_shininess(self.shininess)?;
         self.fresnel.validate()?;
         check_rgb("emission", self.emission)
     }
@@ -196,8 +227,11 @@ mod tests {
         assert_eq!(e.to_string(), "ka: must be non-negative, got -0.1");
         let e = Material::new(Vec3::ZERO, Vec3::new(0.0, f32::NAN, 0.0), Vec3::ONE, 1.0);
         assert!(e.unwrap_err().to_string().starts_with("kd: must be finite"));
-        let e = Material::new(Vec3::ZERO, Vec3::ONE, Vec3::ONE, f32::INFINITY).unwrap_err();
-        assert!(e.to_string().starts_with("shininess"));
+        let e = Material::new(Vec3::ZERO, Vec3::ONE, Vec3::ONE, f32::NAN).unwrap_err();
+        assert_eq!(e.to_string(), "shininess: must be in [0, inf], got NaN");
+        let e = Material::new(Vec3::ZERO, Vec3::ONE, Vec3::ONE, f32::NEG_INFINITY).unwrap_err();
+        assert_eq!(e.to_string(), "shininess: must be non-negative, got -inf");
+        assert!(Material::new(Vec3::ZERO, Vec3::ONE, Vec3::ONE, f32::INFINITY).is_ok());
         let e = Material::s1().with_emission(Vec3::NEG_ONE).unwrap_err();
         assert!(e.to_string().starts_with("emission"));
         assert!(Material::new(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, f32::MAX).is_ok());
@@ -217,7 +251,7 @@ mod tests {
     }
 
     #[test]
-    fn s1_material_has_the_design_values() {
+    fn s1_material_has_the_s1_values() {
         let m = Material::s1();
         assert_eq!(m.kd, Vec3::new(0.8, 0.6, 0.4));
         assert_eq!(m.shininess, 32.0);

@@ -1,10 +1,11 @@
 //! Ground truth: the model in `f64`, all effects, no shortcuts (the `reference` shading mode).
 
 use glam::{DVec3, Vec3};
-use phosphor_math::{clamped_pow_f64, reflect_f64, safe_normalize_f64};
+use phosphor_math::{reflect_f64, safe_normalize_f64};
 
 use crate::attenuation::factor_from_coefficients_f64;
 use crate::lightset::{LightSet, PreparedPoint, spot_cone_f64};
+use crate::lobe::specular_lobe_f64;
 use crate::material::{Material, SpecularModel};
 
 /// Ground truth in f64, all effects, no shortcuts. Same conventions as [`crate::shade()`]
@@ -27,10 +28,12 @@ pub fn shade_reference(set: &LightSet, mat: &Material, p: DVec3, n: DVec3, eye: 
             return;
         }
         let lobe = match mat.specular {
-            SpecularModel::Phong => clamped_pow_f64(reflect_f64(n, l).dot(v), mat.shininess.into()),
+            SpecularModel::Phong => {
+                specular_lobe_f64(reflect_f64(n, l).dot(v), mat.shininess.into())
+            }
             SpecularModel::Blinn => {
                 let h = safe_normalize_f64(l + v, n);
-                clamped_pow_f64(n.dot(h), mat.shininess.into())
+                specular_lobe_f64(n.dot(h), mat.shininess.into())
             }
         };
         let w = mat.fresnel.w_f64(n_dot_l);

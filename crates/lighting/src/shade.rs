@@ -2,16 +2,20 @@
 //!
 //! `I = emission + ka Ia + sum over lights f(d) Il [kd max(N.L, 0) + ks W(theta) max(V.R, 0)^n_s]`
 //!
-//! with the specular term 0 where `N.L <= 0` (seeds: ambient, Lambert, Phong, `1/(K+d)`).
+//! with the specular term 0 where `N.L <= 0`: the lecture notes' ambient `I = Ia Ka`, Lambert's
+//! `I = Kd Il (N.L)`, Phong 1975's `Ks Il (V.R)^ns` and the attenuation `1/(K+d)`. `ks` is 1
+//! under [`crate::FresnelMode::Replace`], and the lobe goes through
+//! [`crate::lobe::specular_lobe`], so `n_s = inf` is a perfect mirror.
 //! A term whose bit is absent from `FX` is not evaluated (the `if` on a const folds away), and
 //! the result equals the all-effects path with that term zeroed.
 
 use glam::Vec3;
-use phosphor_math::{MIN_NORMALIZABLE_LENGTH_SQUARED, clamped_pow_fast, reflect, safe_normalize};
+use phosphor_math::{MIN_NORMALIZABLE_LENGTH_SQUARED, reflect, safe_normalize};
 
 use crate::attenuation::factor_from_coefficients;
 use crate::effects::Effects;
 use crate::lightset::{LightSet, PreparedPoint, spot_cone};
+use crate::lobe::specular_lobe;
 use crate::material::{Material, SpecularModel};
 
 /// The three sums of the model, kept apart for fast Phong's separate polynomials.
@@ -93,11 +97,11 @@ pub fn shade_split<const FX: u32>(
 ) -> ShadeTerms {
     let mut ambient = Vec3::ZERO;
     if has(FX, Effects::EMISSION) {
-        // seeds: I = Ka for self-luminous objects, added as is.
+        // The lecture notes' I = Ka for self-luminous objects, added as is.
         ambient += mat.emission;
     }
     if has(FX, Effects::AMBIENT) {
-        // seeds: I = Ia Ka.
+        // The lecture notes' I = Ia Ka.
         ambient += mat.ka * set.ambient();
     }
     let mut terms = ShadeTerms {
@@ -194,19 +198,20 @@ impl Sums {
     ) {
         let n_dot_l = n.dot(l);
         if n_dot_l <= 0.0 {
-            // The light is behind the surface: no diffuse, and no specular (seeds' figure).
+            // The light is behind the surface: no diffuse, and no specular (the lecture notes'
+            // figure of N, L, R).
             return;
         }
         if has(FX, Effects::DIFFUSE) {
-            // seeds: I = Kd Il (N.L).
+            // The lecture notes' I = Kd Il (N.L) (Lambert).
             self.diffuse += (mat.kd * n_dot_l) * il;
         }
         if has(FX, Effects::SPECULAR) {
             let lobe = match mat.specular {
-                // seeds: (V.R)^ns with R = 2(N.L)N - L.
-                SpecularModel::Phong => clamped_pow_fast(reflect(n, l).dot(v), mat.shininess),
+                // Phong 1975: (V.R)^ns with R = 2(N.L)N - L.
+                SpecularModel::Phong => specular_lobe(reflect(n, l).dot(v), mat.shininess),
                 SpecularModel::Blinn => {
-                    clamped_pow_fast(n.dot(safe_normalize(l + v, n)), mat.shininess)
+                    specular_lobe(n.dot(safe_normalize(l + v, n)), mat.shininess)
                 }
             };
             let w = if has(FX, Effects::FRESNEL) {

@@ -46,6 +46,7 @@ use crate::attenuation::{MAX_LIGHT_DISTANCE, MIN_ATTENUATION_DENOMINATOR};
 use crate::effects::Effects;
 use crate::fresnel::Fresnel;
 use crate::lightset::{LightSet, PreparedPoint};
+use crate::lobe::MIRROR_COS_TOLERANCE;
 use crate::material::{Material, SpecularModel};
 use crate::shade::{ShadeTerms, UNIT_NORMAL_TOLERANCE, finite_intensity};
 
@@ -311,18 +312,23 @@ fn unit_normal_x4(n: Vec3x4) -> Vec3x4 {
     Vec3x4::select(given, n, safe_normalize_x4(n, Vec3x4::ZERO).0)
 }
 
-/// How `clamped_pow_fast(base, shininess)` evaluates, decided once per call.
+/// How `specular_lobe(base, shininess)` evaluates, decided once per call.
 #[derive(Clone, Copy)]
 enum Power {
     /// Integer exponent up to `MAX_SQUARING_EXPONENT`: repeated squaring.
     Squaring(u32),
-    /// Any other exponent: the scalar `clamped_pow` (powf) per lane.
+    /// Any other finite exponent: the scalar `clamped_pow` (powf) per lane.
     Powf(f32),
+    /// `+inf`, the perfect mirror: 1 where the base is within `MIRROR_COS_TOLERANCE` of 1.
+    Mirror,
 }
 
 impl Power {
     #[inline(always)]
     fn of(shininess: f32) -> Power {
+        if shininess == f32::INFINITY {
+            return Power::Mirror;
+        }
         let e = shininess.max(0.0);
         if e > MAX_SQUARING_EXPONENT {
             return Power::Powf(shininess);
@@ -343,7 +349,7 @@ impl Power {
         Power::Squaring(n)
     }
 
-    /// `clamped_pow_fast(base[i], shininess)` per lane.
+    /// `specular_lobe(base[i], shininess)` per lane.
     #[inline(always)]
     fn pow(self, base: f32x4) -> f32x4 {
         match self {
@@ -368,6 +374,10 @@ impl Power {
                 acc
             }
             Power::Powf(e) => powf_lanes(base, e),
+            // `mirror_lobe`'s `>=` per lane: false for NaN, as in the scalar code.
+            Power::Mirror => base
+                .cmp_ge(f32x4::splat(1.0 - MIRROR_COS_TOLERANCE))
+                .blend(ONE, ZERO),
         }
     }
 }
@@ -620,12 +630,12 @@ pub fn shade_x4<const FX: u32>(
 
 #[cfg(test)]
 mod tests {
-    use phosphor_math::clamped_pow_fast;
+    use crate::lobe::specular_lobe;
 
     use super::*;
 
     #[test]
-    fn power_matches_clamped_pow_fast_for_every_squaring_exponent_and_the_powf_path() {
+    fn power_matches_specular_lobe_for_every_squaring_exponent_and_the_powf_and_mirror_paths() {
         let bases = [
             0.0,
             -0.0,
@@ -635,7 +645,10 @@ mod tests {
             0.5,
             0.6,
             0.999_999,
+            0.999_99,
+            1.0 - MIRROR_COS_TOLERANCE,
             1.0,
+            1.000_000_1,
             1.5,
             -0.25,
             f32::NAN,
@@ -660,7 +673,7 @@ mod tests {
                 lanes[..quad.len()].copy_from_slice(quad);
                 let got = power.pow(f32x4::new(lanes)).to_array();
                 for (b, g) in lanes.iter().zip(got) {
-                    assert_eq!(g.to_bits(), clamped_pow_fast(*b, e).to_bits(), "{b}^{e}");
+                    assert_eq!(g.to_bits(), specular_lobe(*b, e).to_bits(), "{b}^{e}");
                 }
             }
         }

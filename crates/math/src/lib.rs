@@ -10,7 +10,7 @@
 //!
 //! // Safe normalization returns the fallback instead of NaN for a zero vector.
 //! assert_eq!(safe_normalize(Vec3::ZERO, Vec3::Y), Vec3::Y);
-//! // The seeds' reflection vector R = 2(N.L)N - L.
+//! // The lecture notes' reflection vector R = 2(N.L)N - L.
 //! let r = reflect(Vec3::Y, Vec3::new(1.0, 1.0, 0.0).normalize());
 //! assert!((r - Vec3::new(-1.0, 1.0, 0.0).normalize()).length() < 1e-6);
 //! // Powers of a clamped cosine never leave [0, 1].
@@ -76,7 +76,7 @@ pub fn safe_normalize_f64(v: DVec3, fallback: DVec3) -> DVec3 {
 }
 
 /// The ideal specular reflection of the unit direction `l` (towards the light) about the unit
-/// normal `n`: seeds, `R = (2 N.L) N - L`.
+/// normal `n`: the lecture notes' `R = (2 N.L) N - L`.
 ///
 /// Contract: for unit `n` and `l` the result is a unit vector (within rounding); no
 /// normalization is done here, so callers pass unit vectors. Finite input gives finite output.
@@ -93,13 +93,13 @@ pub fn reflect_f64(n: DVec3, l: DVec3) -> DVec3 {
     2.0 * n.dot(l) * n - l
 }
 
-/// `base^exponent` for a cosine-like base: the base is clamped to `[0, 1]` first, as the seeds
-/// do for `(V.R)^n` ("cos phi varies from 0 to 1").
+/// `base^exponent` for a cosine-like base: the base is clamped to `[0, 1]` first, as the lecture
+/// notes do for `(V.R)^n` ("cos phi varies from 0 to 1").
 ///
 /// Contract: the result is always in `[0, 1]` and finite. A NaN base counts as 0. A negative
-/// or NaN exponent counts as 0, and `x^0 = 1` for every base including 0 (the seeds' `n_s = 0`
-/// means "no falloff"). An infinite exponent gives 1 for base 1 and 0 otherwise (the seeds'
-/// perfect reflector).
+/// or NaN exponent counts as 0, and `x^0 = 1` for every base including 0 (`n_s = 0`
+/// means "no falloff"). An infinite exponent gives 1 for base 1 and 0 otherwise (the lecture
+/// notes' perfect reflector, `n_s` infinite; the lighting crate adds a rounding tolerance).
 #[inline]
 #[must_use]
 #[allow(

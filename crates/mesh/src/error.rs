@@ -2,9 +2,10 @@
 
 use thiserror::Error;
 
-/// An OBJ (or MTL) file that could not be turned into a [`crate::Mesh`].
+/// A mesh file (OBJ and its MTL, PLY, STL, glTF) that could not be turned into a [`crate::Mesh`].
 ///
-/// `Display` is `FILE:LINE: what` when the offending line is known, `FILE: what` otherwise.
+/// `Display` is `FILE:LINE: what` when the offending line is known, `FILE: ELEMENT: what` for
+/// an element of a binary file, `FILE: what` otherwise.
 #[derive(Debug, Error)]
 pub enum MeshError {
     /// The file could not be read (missing, unreadable).
@@ -32,6 +33,17 @@ pub enum MeshError {
     NoFaces {
         /// The file as given by the caller.
         file: String,
+    },
+    /// An element of a binary file (or one with no line to give) that is wrong: truncated data,
+    /// an index out of range, a NaN coordinate, an unsupported encoding.
+    #[error("{file}: {element}: {what}")]
+    Element {
+        /// The file as given by the caller.
+        file: String,
+        /// The element: `facet 12`, `face 7 of 40`, `meshes[0].primitives[1]`.
+        element: String,
+        /// What is wrong with it.
+        what: String,
     },
     /// An error without a line: reported by tobj after our own line scan accepted the file,
     /// or a mesh with no drawable face (every triangle of zero area).

@@ -1,6 +1,7 @@
 //! `phosphor-mesh`: triangle meshes for Phosphor. OBJ loading (through tobj, plus a light line
-//! scan for smoothing groups and line-numbered errors), face normals robust for slivers,
-//! vertex normals averaged only within a surface (seeds: `N_v = sum N_k / |sum N_k|`),
+//! scan for smoothing groups and line-numbered errors), PLY, STL and glTF 2.0 loading chosen by
+//! extension ([`load_mesh`]), face normals robust for slivers,
+//! vertex normals averaged only within a surface (the lecture notes' `N_v = sum N_k / |sum N_k|`),
 //! tangents, analytic primitives with exact normals, and a render order
 //! ([`Mesh::sort_spatially`]: triangles along a Morton curve, so neighbours in memory are
 //! neighbours in space). Knows nothing of light or pixels.
@@ -32,6 +33,16 @@
 //! assert!(sorted.is_consistent());
 //! # Ok::<(), phosphor_mesh::MeshError>(())
 //! ```
+//!
+//! # Bounds on work and memory
+//!
+//! Loading is near-linear in the file whatever its shape: edges shared by many faces, vertices
+//! shared by many faces ([`normals`] documents the rule at vertices where more than 256 corners
+//! meet) and polygons of many corners ([`triangulate`]). An MTL file is read only when it is a
+//! regular file of at most [`MAX_MTL_BYTES`]; otherwise, as for any bad MTL, the mesh gets the
+//! default material and a warning. Warnings are one line of at most [`MAX_WARNING_CHARS`]
+//! characters. Primitives whose counts come from a file are checked against a memory limit
+//! before anything is allocated ([`primitives::try_uv_sphere`] and its siblings).
 //!
 //! # Vertex normals: measured accuracy
 //!
@@ -76,18 +87,19 @@
 //! | 512x256 | Area    | 1.56e-5 rad | 4.91e-5 rad |
 //! | 512x256 | Angle   | 3.05e-5 rad | 4.90e-5 rad |
 //!
-//! With no poles every vertex of the torus sees the same regular, mirror-symmetric fan, and
-//! uniform weighting (the seeds' formula) is the most accurate: its error is at the rounding of
-//! the f32 positions (it stops falling at 512x256, where edges are 7e-3 long). Area and angle
-//! weighting converge at second order (a quarter per doubling) but their max error stays 6 to 350 times larger;
-//! likely because the torus' quads are trapezoids (outer edge longer than inner), so area and
-//! angle weights differ around a vertex and break the symmetry that cancels uniform weighting's
-//! first-order error. What accuracy costs, then: on regular grids the cheapest weighting is
-//! also the most accurate; angle weighting pays off where fans are irregular (the sphere's
-//! pole rings, where its max error is 10 to 80 times below uniform's).
+//! With no poles every vertex of the torus sees the same regular, mirror-symmetric fan, and uniform
+//! weighting (the lecture notes' formula) is the most accurate: its error is at the rounding of the
+//! f32 positions (it stops falling at 512x256, where edges are 7e-3 long). Area and angle weighting
+//! converge at second order (a quarter per doubling) but their max error stays 6 to 350 times
+//! larger; likely because the torus' quads are trapezoids (outer edge longer than inner), so area
+//! and angle weights differ around a vertex and break the symmetry that cancels uniform weighting's
+//! first-order error. What accuracy costs, then: on regular grids the cheapest weighting is also
+//! the most accurate; angle weighting pays off where fans are irregular (the sphere's pole rings,
+//! where its max error is 10 to 80 times below uniform's).
 
 pub mod build;
 pub mod error;
+mod formats;
 mod loader;
 pub mod mesh;
 pub mod normals;
@@ -96,11 +108,17 @@ pub mod primitives;
 mod scan;
 pub mod stats;
 pub mod tangents;
+pub mod topology;
 pub mod triangulate;
 
 pub use build::TriangleSoup;
 pub use error::MeshError;
-pub use loader::{load_obj, load_obj_with_warnings, parse_obj, parse_obj_with_warnings};
+pub use formats::{MeshFormat, load_mesh, load_mesh_with_warnings, parse_mesh_bytes};
+pub use loader::{
+    MAX_MTL_BYTES, MAX_WARNING_CHARS, load_obj, load_obj_with_warnings, parse_obj,
+    parse_obj_with_warnings,
+};
 pub use mesh::{Mesh, MtlMaterial, fallback_tangent};
 pub use normals::{NormalOptions, NormalSource, Weighting, triangle_normal_f64};
 pub use stats::MeshStats;
+pub use topology::is_closed_solid;

@@ -3,13 +3,14 @@
 //! normals and tangents.
 //!
 //! Positions are welded by exact equality across tobj's models (tobj re-emits positions per
-//! `o`/`g`/`usemtl` model, ECOSYSTEM.md 1.3), so faces on both sides of a group or material
-//! boundary share a position and may be smoothed together when the rule allows it.
-//! Texture coordinates are kept only when every polygon corner names a `vt`, authored normals
+//! `o`/`g`/`usemtl` model; docs/conventions.md, "Dependency facts"), so faces on both sides of a
+//! group or material boundary share a position and may be smoothed together when the rule allows
+//! it. Texture coordinates are kept only when every polygon corner names a `vt`, authored normals
 //! only when every corner names a `vn` (otherwise normals are computed).
 
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::io::Read;
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
@@ -23,8 +24,8 @@ use crate::triangulate::triangulate;
 
 /// Loads an OBJ file (and the MTL files its `mtllib` lines name, relative to the OBJ).
 ///
-/// A missing MTL or an undefined material is not an error (DESIGN.md): the mesh gets the
-/// default material; [`load_obj_with_warnings`] returns those warnings.
+/// A missing MTL or an undefined material is not an error (docs/conventions.md, "Scene files"): the
+/// mesh gets the default material; [`load_obj_with_warnings`] returns those warnings.
 pub fn load_obj(path: &Path, opts: &NormalOptions) -> Result<Mesh, MeshError> {
     load_obj_with_warnings(path, opts).map(|(m, _)| m)
 }
@@ -51,18 +52,18 @@ pub fn load_obj_with_warnings(
     let warnings = RefCell::new(Vec::new());
     let loader = |mtl: &Path| {
         let full = dir.join(mtl);
-        match std::fs::read(&full) {
-            Ok(b) => tobj::load_mtl_buf(&mut b.as_slice()).inspect_err(|e| {
-                warnings.borrow_mut().push(format!(
-                    "{}: {e}; using the default material",
-                    full.display()
-                ));
+        match read_mtl(&full) {
+            Ok(b) => tobj::load_mtl_buf(&mut strip_bom_bytes(&b)).inspect_err(|e| {
+                warn(
+                    &warnings,
+                    format!("{}: {e}; using the default material", full.display()),
+                );
             }),
-            Err(e) => {
-                warnings.borrow_mut().push(format!(
-                    "{}: cannot read: {e}; using the default material",
-                    full.display()
-                ));
+            Err(why) => {
+                warn(
+                    &warnings,
+                    format!("{}: {why}; using the default material", full.display()),
+                );
                 Err(tobj::LoadError::OpenFileFailed)
             }
         }
@@ -91,20 +92,111 @@ pub fn parse_obj_with_warnings(
 ) -> Result<(Mesh, Vec<String>), MeshError> {
     let warnings = RefCell::new(Vec::new());
     let loader = |_: &Path| match mtl {
-        Some(t) => tobj::load_mtl_buf(&mut t.as_bytes()).inspect_err(|e| {
-            warnings
-                .borrow_mut()
-                .push(format!("{name}: MTL: {e}; using the default material"));
+        Some(t) => tobj::load_mtl_buf(&mut strip_bom(t).as_bytes()).inspect_err(|e| {
+            warn(
+                &warnings,
+                format!("{name}: MTL: {e}; using the default material"),
+            );
         }),
         None => {
-            warnings.borrow_mut().push(format!(
-                "{name}: mtllib given but no MTL text; using the default material"
-            ));
+            warn(
+                &warnings,
+                format!("{name}: mtllib given but no MTL text; using the default material"),
+            );
             Err(tobj::LoadError::OpenFileFailed)
         }
     };
     let mesh = parse_with(text, name, loader, opts, &warnings)?;
     Ok((mesh, warnings.into_inner()))
+}
+
+/// Largest MTL file read, in bytes: a material library is a few kilobytes, and a bad one is
+/// only a warning, so a huge file named by `mtllib` is refused before it is read.
+pub const MAX_MTL_BYTES: u64 = 64 << 20;
+
+/// Longest warning, in characters: warnings quote file names and tobj's messages, and one
+/// line each must stay readable.
+pub const MAX_WARNING_CHARS: usize = 200;
+
+/// Characters kept from the end of a cut warning, where the reason and the consequence are.
+const WARNING_TAIL_CHARS: usize = 80;
+
+/// Pushes `msg`, cut to [`MAX_WARNING_CHARS`] characters: its start (the file and line) and
+/// its end (what is wrong, what happens instead), the cut in between marked by `...`.
+fn warn(warnings: &RefCell<Vec<String>>, msg: String) {
+    let count = msg.chars().count();
+    let msg = if count > MAX_WARNING_CHARS {
+        let head = MAX_WARNING_CHARS - 3 - WARNING_TAIL_CHARS;
+        let mut cut: String = msg.chars().take(head).collect();
+        cut.push_str("...");
+        cut.extend(msg.chars().skip(count - WARNING_TAIL_CHARS));
+        cut
+    } else {
+        msg
+    };
+    warnings.borrow_mut().push(msg);
+}
+
+/// Faces warned about one by one; the rest are counted in one more line.
+const SHORT_FACE_WARNINGS: usize = 10;
+
+/// Warns about `f` statements with fewer than 3 corners (tobj drops them silently).
+fn report_short_faces(short: &[(usize, usize)], file: &str, warnings: &RefCell<Vec<String>>) {
+    for &(line, corners) in short.iter().take(SHORT_FACE_WARNINGS) {
+        let noun = if corners == 1 { "corner" } else { "corners" };
+        warn(
+            warnings,
+            format!("{file}:{line}: face with {corners} {noun} skipped (a face needs 3 or more)"),
+        );
+    }
+    if short.len() > SHORT_FACE_WARNINGS {
+        warn(
+            warnings,
+            format!(
+                "{file}: {} more faces with fewer than 3 corners skipped",
+                short.len() - SHORT_FACE_WARNINGS
+            ),
+        );
+    }
+}
+
+/// `text` without a leading UTF-8 byte-order mark.
+fn strip_bom(text: &str) -> &str {
+    text.strip_prefix('\u{feff}').unwrap_or(text)
+}
+
+/// `bytes` without a leading UTF-8 byte-order mark.
+fn strip_bom_bytes(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
+}
+
+/// Reads an MTL file: regular files only (a FIFO or device named by `mtllib` would block or
+/// never end), at most [`MAX_MTL_BYTES`]. The error is the reason, for a warning.
+fn read_mtl(path: &Path) -> Result<Vec<u8>, String> {
+    let over = |len: u64| {
+        format!(
+            "MTL file of {len} bytes is over the {} MiB limit",
+            MAX_MTL_BYTES >> 20
+        )
+    };
+    // Metadata first: opening a FIFO for reading blocks until a writer appears.
+    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read: {e}"))?;
+    if !meta.is_file() {
+        return Err("cannot read: not a regular file".to_owned());
+    }
+    if meta.len() > MAX_MTL_BYTES {
+        return Err(over(meta.len()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
+    let mut bytes = Vec::new();
+    // The file may grow between the check and the read: never take more than the cap.
+    file.take(MAX_MTL_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read: {e}"))?;
+    if bytes.len() as u64 > MAX_MTL_BYTES {
+        return Err(over(bytes.len() as u64));
+    }
+    Ok(bytes)
 }
 
 fn convert_material(m: &tobj::Material) -> MtlMaterial {
@@ -140,7 +232,10 @@ fn parse_with<ML: Fn(&Path) -> tobj::MTLLoadResult>(
     opts: &NormalOptions,
     warnings: &RefCell<Vec<String>>,
 ) -> Result<Mesh, MeshError> {
+    // A UTF-8 byte-order mark is not part of the first statement.
+    let text = strip_bom(text);
     let scanned = scan(text, file)?;
+    report_short_faces(&scanned.short_faces, file, warnings);
     if scanned.faces.is_empty() {
         return Err(MeshError::NoFaces {
             file: file.to_owned(),
@@ -159,9 +254,12 @@ fn parse_with<ML: Fn(&Path) -> tobj::MTLLoadResult>(
         .unwrap_or_default();
     for (line, name) in &scanned.usemtl {
         if !materials.iter().any(|m| &m.name == name) {
-            warnings.borrow_mut().push(format!(
-                "{file}:{line}: material '{name}' is not defined; using the default material"
-            ));
+            warn(
+                warnings,
+                format!(
+                    "{file}:{line}: material '{name}' is not defined; using the default material"
+                ),
+            );
         }
     }
     let mut soup = assemble(&models, &scanned, materials.len(), file)?;
@@ -169,8 +267,8 @@ fn parse_with<ML: Fn(&Path) -> tobj::MTLLoadResult>(
         soup.normals = None;
     }
     let mut mesh = soup.build(opts);
-    // DESIGN: a mesh with no drawable face is an error. Faces with repeated or collinear
-    // corners have zero area: they would load, then render nothing at all.
+    // A mesh with no drawable face is an error (docs/conventions.md, "Scene files"). Faces with
+    // repeated or collinear corners have zero area: they would load, then render nothing at all.
     let degenerate = mesh.degenerate_count();
     if degenerate == mesh.indices.len() {
         return Err(invalid(

@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 use crate::normals::triangle_normal_f64;
 
-/// A material from an MTL file (the subset the seeds' illumination model uses).
+/// A material from an MTL file (the subset the illumination model uses).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MtlMaterial {
     /// `newmtl` name.
@@ -100,7 +100,7 @@ impl Mesh {
     }
 
     /// Moves the bounding-box centre to the origin and scales uniformly so that the farthest
-    /// vertex is at distance 1 (DESIGN.md, scene S1). Normals and tangents are unchanged (a
+    /// vertex is at distance 1 (S1, docs/conventions.md). Normals and tangents are unchanged (a
     /// uniform scale keeps directions). A mesh whose vertices all coincide is only translated.
     pub fn normalize_unit(&mut self) {
         let (lo, hi) = self.bounds();

@@ -1,7 +1,7 @@
 //! Face normals and vertex normals averaged within a surface.
 //!
-//! Seeds (000): the vertex normal is `N_v = sum N_k / |sum N_k|` over the faces `k` around the
-//! vertex ([`Weighting::Uniform`]); seeds (002): the average is taken only over faces of the same
+//! The lecture notes: the vertex normal is `N_v = sum N_k / |sum N_k|` over the faces `k` around
+//! the vertex ([`Weighting::Uniform`]), and the average is taken only over faces of the same
 //! surface. Here a corner of a face averages the faces around its position that are *compatible*
 //! with its own face: same smoothing group (when the file has `s` lines and the options use them;
 //! group 0 / `s off` means flat), same material (when asked), and a dihedral angle between the two
@@ -9,21 +9,28 @@
 //! never contribute.
 //!
 //! Uniform weighting counts each source polygon once per vertex (an OBJ quad split into two
-//! triangles is one face, as in the seeds); area and angle weights are per triangle (the angles
-//! of a polygon's triangles at a vertex add up to the polygon's angle). Triangles of one polygon
-//! are always smoothed together.
+//! triangles is one face, as in the notes' `N_v`); area and angle weights are per triangle (the
+//! angles of a polygon's triangles at a vertex add up to the polygon's angle). Triangles of one
+//! polygon are always smoothed together.
+//!
+//! At a vertex where more than 256 corners meet, each corner averages the faces of its own
+//! surface there instead (surfaces are the faces joined edge to edge by the same tests), which
+//! keeps the work linear; it is the same average wherever every two faces of a surface at that
+//! vertex pass the tests, as on smooth and flat regions.
 //!
 //! Fallbacks, so no corner is ever NaN: where the weighted sum cancels or points away from the
 //! corner's own face (a two-sided sheet with the crease test off), the corner takes its own
 //! face normal; a corner of a degenerate face takes
 //! the average of the compatible faces around its position, else of all faces there, else +Z.
 
+use std::collections::HashMap;
+
 use glam::{DVec3, Vec3};
 
 /// How the face normals around a vertex are weighted.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Weighting {
-    /// Every face counts once: the seeds' `N_v = sum N_k / |sum N_k|`.
+    /// Every face counts once: the lecture notes' `N_v = sum N_k / |sum N_k|`.
     #[default]
     Uniform,
     /// Faces weighted by their area.
@@ -42,7 +49,7 @@ pub enum NormalSource {
     Computed,
 }
 
-/// Options for vertex normals (DESIGN.md, "Conventions").
+/// Options for vertex normals (docs/conventions.md, "Normals").
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NormalOptions {
     /// Weighting of the face normals around a vertex.
@@ -63,8 +70,8 @@ pub struct NormalOptions {
 pub const DEFAULT_CREASE_ANGLE_DEG: f32 = 60.0;
 
 impl Default for NormalOptions {
-    /// The DESIGN.md conventions: `vn` as authored; smoothing groups when the file has them;
-    /// otherwise a 60-degree crease angle; uniform weights (the seeds' formula).
+    /// The conventions of docs/conventions.md: `vn` as authored; smoothing groups when the file has
+    /// them; otherwise a 60-degree crease angle; uniform weights (the lecture notes' `N_v`).
     fn default() -> Self {
         NormalOptions {
             weighting: Weighting::Uniform,
@@ -78,8 +85,8 @@ impl Default for NormalOptions {
 
 impl NormalOptions {
     /// Standard scene S1: as the default, except that every face sharing a position is averaged
-    /// (crease angle 180 degrees) with uniform weights, the seeds' formula. Smoothing groups and
-    /// authored `vn` still win where the file has them.
+    /// (crease angle 180 degrees) with uniform weights, the lecture notes' `N_v`. Smoothing groups
+    /// and authored `vn` still win where the file has them.
     #[must_use]
     pub fn s1() -> Self {
         NormalOptions {
@@ -251,7 +258,19 @@ pub(crate) struct FaceLabels<'a> {
     pub polygons: &'a [u32],
 }
 
+/// Vertices where more corners than this meet average each corner over its surface there
+/// rather than testing every pair of faces (see [`corner_normals`]).
+pub(crate) const MAX_PAIRWISE_VALENCE: usize = 256;
+
 /// Computes one unit normal per corner (`tri * 3 + k`).
+///
+/// At a vertex where at most [`MAX_PAIRWISE_VALENCE`] corners meet, each corner averages the
+/// faces there that are compatible with its own face (the module docs' rule, tested pair by
+/// pair). Where more meet (the apex of a fine cone, the centre of a fanned polygon, a face
+/// repeated thousands of times), pair tests would be quadratic in the valence, so each corner
+/// averages the faces of its own surface there (`surfaces`, the components of faces joined
+/// across edges by the same rule): the same faces whenever the rule holds between every two
+/// faces of a surface at that vertex, as on smooth or flat regions.
 pub(crate) fn corner_normals(
     positions: &[Vec3],
     tris: &[[u32; 3]],
@@ -259,6 +278,7 @@ pub(crate) fn corner_normals(
     labels: &FaceLabels<'_>,
     weighting: Weighting,
     rule: &SmoothRule,
+    surfaces: &[u32],
 ) -> Vec<Vec3> {
     let FaceLabels {
         groups,
@@ -280,6 +300,8 @@ pub(crate) fn corner_normals(
     };
     let mut out = vec![Vec3::Z; tris.len() * 3];
     let mut around: Vec<(u32, DVec3, f64)> = Vec::new();
+    let mut polys: Vec<u32> = Vec::new();
+    let mut by_surface: HashMap<u32, (DVec3, f64)> = HashMap::new();
     for pos in 0..positions.len() {
         let corners = by_pos.at(pos);
         around.clear();
@@ -288,54 +310,70 @@ pub(crate) fn corner_normals(
             faces.normal[t].map(|n| (c, n, weight(c)))
         }));
         if weighting == Weighting::Uniform {
-            // Count each source polygon once at this vertex (seeds: one N_k per face).
-            let poly = |c: u32| polygons[(c / 3) as usize];
-            let counts: Vec<f64> = around
-                .iter()
-                .map(|&(c, _, _)| {
-                    around
-                        .iter()
-                        .filter(|&&(c2, _, _)| poly(c2) == poly(c))
-                        .count() as f64
-                })
-                .collect();
-            for (entry, k) in around.iter_mut().zip(counts) {
-                entry.2 /= k;
+            // Count each source polygon once at this vertex (the notes' N_v: one N_k per face).
+            polys.clear();
+            polys.extend(around.iter().map(|&(c, _, _)| polygons[(c / 3) as usize]));
+            polys.sort_unstable();
+            for entry in &mut around {
+                let p = polygons[(entry.0 / 3) as usize];
+                let count = polys.partition_point(|&q| q <= p) - polys.partition_point(|&q| q < p);
+                entry.2 /= count as f64;
+            }
+        }
+        // Degenerate face with no compatible neighbour: any face here, else +Z.
+        let any_face = || {
+            let any: DVec3 = around.iter().map(|&(_, n2, _)| n2).sum();
+            let l = any.length();
+            (l > 0.0).then(|| any / l)
+        };
+        let mut any_here: Option<Option<DVec3>> = None;
+        let pairwise = corners.len() <= MAX_PAIRWISE_VALENCE;
+        if !pairwise {
+            by_surface.clear();
+            for &(c2, n2, w2) in &around {
+                let entry = by_surface
+                    .entry(surfaces[(c2 / 3) as usize])
+                    .or_insert((DVec3::ZERO, 0.0));
+                entry.0 += n2 * w2;
+                entry.1 += w2.abs();
             }
         }
         for &c in corners {
             let t = (c / 3) as usize;
-            let (g, m) = (groups[t], materials[t]);
             let own = faces.normal[t];
-            let mut sum = DVec3::ZERO;
-            let mut total = 0.0;
-            for &(c2, n2, w2) in &around {
-                let t2 = (c2 / 3) as usize;
-                let same_polygon = polygons[t2] == polygons[t];
-                if !same_polygon && !rule.same_kind(g, groups[t2], m, materials[t2]) {
-                    continue;
-                }
-                if let (false, Some(n), Some(cos)) = (same_polygon, own, rule.cos_crease) {
-                    // Small tolerance so that exactly-at-threshold and coplanar faces merge.
-                    if n.dot(n2) < cos - 1e-9 {
+            let (sum, total) = if pairwise {
+                let (g, m) = (groups[t], materials[t]);
+                let mut sum = DVec3::ZERO;
+                let mut total = 0.0;
+                for &(c2, n2, w2) in &around {
+                    let t2 = (c2 / 3) as usize;
+                    let same_polygon = polygons[t2] == polygons[t];
+                    if !same_polygon && !rule.same_kind(g, groups[t2], m, materials[t2]) {
                         continue;
                     }
+                    if let (false, Some(n), Some(cos)) = (same_polygon, own, rule.cos_crease) {
+                        // Small tolerance so that exactly-at-threshold and coplanar faces merge.
+                        if n.dot(n2) < cos - 1e-9 {
+                            continue;
+                        }
+                    }
+                    sum += n2 * w2;
+                    total += w2.abs();
                 }
-                sum += n2 * w2;
-                total += w2.abs();
-            }
+                (sum, total)
+            } else {
+                by_surface
+                    .get(&surfaces[t])
+                    .copied()
+                    .unwrap_or((DVec3::ZERO, 0.0))
+            };
             let len = sum.length();
             // A corner never takes a normal facing away from its own face (two-sided sheets).
             let facing = own.is_none_or(|n| n.dot(sum) > 0.0);
             let n = if len > 1e-9 * total && len > 0.0 && facing {
                 Some(sum / len)
             } else {
-                own.or_else(|| {
-                    // Degenerate face with no compatible neighbour: any face here, else +Z.
-                    let any: DVec3 = around.iter().map(|&(_, n2, _)| n2).sum();
-                    let l = any.length();
-                    (l > 0.0).then(|| any / l)
-                })
+                own.or_else(|| *any_here.get_or_insert_with(any_face))
             };
             out[c as usize] = n.map_or(Vec3::Z, |n| {
                 phosphor_math::safe_normalize(n.as_vec3(), Vec3::Z)

@@ -1,10 +1,10 @@
 //! The light second pass over the OBJ text.
 //!
-//! tobj parses the geometry but drops smoothing groups (`s N`, `s off`) and reports errors
-//! without a line number (ECOSYSTEM.md 1.1, 1.4). This scan reads each line once, validates what
-//! tobj would parse (numbers, indices) so that an error can name its line, and records for every
-//! polygon (an `f` or `l` line with three or more vertices, the ones tobj keeps with
-//! `ignore_points` and `ignore_lines`) its line and smoothing group, in file order. It is
+//! tobj parses the geometry but drops smoothing groups (`s N`, `s off`) and reports errors without
+//! a line number (docs/conventions.md, "Dependency facts"). This scan reads each line once,
+//! validates what tobj would parse (numbers, indices) so that an error can name its line, and
+//! records for every polygon (an `f` or `l` line with three or more vertices, the ones tobj keeps
+//! with `ignore_points` and `ignore_lines`) its line and smoothing group, in file order. It is
 //! deliberately stricter than tobj: whatever it accepts, tobj accepts.
 
 use crate::error::MeshError;
@@ -33,6 +33,8 @@ pub(crate) struct Scan {
     pub usemtl: Vec<(usize, String)>,
     /// The file has a `mtllib` line.
     pub has_mtllib: bool,
+    /// `f` statements with fewer than 3 corners, which tobj drops: (line, corners).
+    pub short_faces: Vec<(usize, usize)>,
 }
 
 struct Counts {
@@ -239,9 +241,13 @@ pub(crate) fn scan(text: &str, file: &str) -> Result<Scan, MeshError> {
                 numbers(&mut words, 3, "normal", file, line)?;
                 counts.vn += 1;
             }
-            Some("f" | "l") => {
+            Some(kind @ ("f" | "l")) => {
                 let (n, uv, nrm) = face_line(words, &counts, file, line)?;
-                // Fewer than 3 corners is a point or a line: tobj drops it, so do we.
+                // Fewer than 3 corners is a point or a line: tobj drops it, so do we, and an
+                // `f` that says face but is not one gets a warning.
+                if n < 3 && kind == "f" {
+                    out.short_faces.push((line, n));
+                }
                 if n >= 3 {
                     out.faces.push(ScannedFace { line, group });
                     out.all_corners_have_uv &= uv;

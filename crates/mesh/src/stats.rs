@@ -5,11 +5,15 @@ use std::fmt;
 
 use glam::Vec3;
 
+use crate::build::weld_key;
 use crate::mesh::Mesh;
 
 /// What `phosphor info` prints about a mesh.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshStats {
+    /// Distinct positions (welded by exact equality, `-0.0 == 0.0`): the points faces share,
+    /// whatever the file stored (an STL stores three per triangle).
+    pub positions: usize,
     /// Vertices (after splitting where surfaces meet).
     pub vertices: usize,
     /// Triangles.
@@ -37,7 +41,9 @@ impl Mesh {
             .copied()
             .filter(|&g| g != 0)
             .collect();
+        let positions: HashSet<[u32; 3]> = self.positions.iter().map(|&p| weld_key(p)).collect();
         MeshStats {
+            positions: positions.len(),
             vertices: self.positions.len(),
             triangles: self.indices.len(),
             surfaces: surfaces.len(),
@@ -52,7 +58,12 @@ impl Mesh {
 impl fmt::Display for MeshStats {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let (lo, hi) = self.bounds;
-        writeln!(f, "vertices:         {}", self.vertices)?;
+        writeln!(f, "positions:        {} (distinct, welded)", self.positions)?;
+        writeln!(
+            f,
+            "vertices:         {} (split where surfaces meet)",
+            self.vertices
+        )?;
         writeln!(f, "triangles:        {}", self.triangles)?;
         writeln!(f, "surfaces:         {}", self.surfaces)?;
         writeln!(f, "smoothing groups: {}", self.smoothing_groups)?;

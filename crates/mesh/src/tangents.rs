@@ -9,6 +9,8 @@
 //! is parallel to the normal gets [`crate::fallback_tangent`] (a unit vector perpendicular to
 //! the normal, `w = +1`).
 
+use std::collections::TryReserveError;
+
 use glam::{DVec3, Vec2, Vec3, Vec4};
 
 use crate::mesh::fallback_tangent;
@@ -23,8 +25,53 @@ pub fn compute(
     indices: &[[u32; 3]],
 ) -> Vec<Vec4> {
     let n = positions.len().min(normals.len()).min(uvs.len());
-    let mut t_sum = vec![DVec3::ZERO; n];
-    let mut b_sum = vec![DVec3::ZERO; n];
+    let mut out = Vec::with_capacity(positions.len());
+    fill(
+        positions,
+        normals,
+        uvs,
+        indices,
+        vec![DVec3::ZERO; n],
+        vec![DVec3::ZERO; n],
+        &mut out,
+    );
+    out
+}
+
+/// [`compute`], reporting a failed allocation instead of aborting (for meshes whose size a
+/// scene file sets).
+pub(crate) fn try_compute(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    uvs: &[Vec2],
+    indices: &[[u32; 3]],
+) -> Result<Vec<Vec4>, TryReserveError> {
+    let n = positions.len().min(normals.len()).min(uvs.len());
+    let zeros = |n: usize| -> Result<Vec<DVec3>, TryReserveError> {
+        let mut v = Vec::new();
+        v.try_reserve_exact(n)?;
+        v.resize(n, DVec3::ZERO);
+        Ok(v)
+    };
+    let (t_sum, b_sum) = (zeros(n)?, zeros(n)?);
+    let mut out = Vec::new();
+    out.try_reserve_exact(positions.len())?;
+    fill(positions, normals, uvs, indices, t_sum, b_sum, &mut out);
+    Ok(out)
+}
+
+/// Sums each triangle's tangent and bitangent into `t_sum` and `b_sum` (one per vertex up to
+/// the shortest input) and pushes one tangent per position onto `out`.
+fn fill(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    uvs: &[Vec2],
+    indices: &[[u32; 3]],
+    mut t_sum: Vec<DVec3>,
+    mut b_sum: Vec<DVec3>,
+    out: &mut Vec<Vec4>,
+) {
+    let n = t_sum.len().min(b_sum.len());
     for tri in indices {
         if tri.iter().any(|&i| i as usize >= n) {
             continue;
@@ -54,28 +101,26 @@ pub fn compute(
             b_sum[i] += b;
         }
     }
-    (0..positions.len())
-        .map(|i| {
-            let Some(&nf) = normals.get(i) else {
-                return Vec4::new(1.0, 0.0, 0.0, 1.0);
-            };
-            if i >= n {
-                return fallback_tangent(nf);
-            }
-            let nn = nf.as_dvec3();
-            let t = t_sum[i] - nn * nn.dot(t_sum[i]);
-            let len = t.length();
-            if len <= 1e-12 * t_sum[i].length() || !len.is_finite() || len == 0.0 {
-                return fallback_tangent(nf);
-            }
-            let t = t / len;
-            let w = if nn.cross(t).dot(b_sum[i]) < 0.0 {
-                -1.0
-            } else {
-                1.0
-            };
-            let t32 = phosphor_math::safe_normalize(t.as_vec3(), Vec3::X);
-            t32.extend(w)
-        })
-        .collect()
+    out.extend((0..positions.len()).map(|i| {
+        let Some(&nf) = normals.get(i) else {
+            return Vec4::new(1.0, 0.0, 0.0, 1.0);
+        };
+        if i >= n {
+            return fallback_tangent(nf);
+        }
+        let nn = nf.as_dvec3();
+        let t = t_sum[i] - nn * nn.dot(t_sum[i]);
+        let len = t.length();
+        if len <= 1e-12 * t_sum[i].length() || !len.is_finite() || len == 0.0 {
+            return fallback_tangent(nf);
+        }
+        let t = t / len;
+        let w = if nn.cross(t).dot(b_sum[i]) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        let t32 = phosphor_math::safe_normalize(t.as_vec3(), Vec3::X);
+        t32.extend(w)
+    }));
 }

@@ -60,7 +60,8 @@ fn out_of_range_index_names_its_line() {
 
 #[test]
 fn negative_texture_index_past_the_start_is_an_error_not_a_panic() {
-    // tobj 4.0.5 overflows on this in debug builds (ECOSYSTEM.md 1.4); our scan rejects it first.
+    // tobj 4.0.5 overflows on this in debug builds (docs/conventions.md, "Dependency facts"); our
+    // scan rejects it first.
     assert_line(
         &format!("{TRI}vt 0 0\nf 1/-5 2/1 3/1\n"),
         5,
@@ -104,7 +105,7 @@ fn file_without_faces_is_an_error_naming_the_file() {
 
 #[test]
 fn file_whose_faces_all_have_zero_area_is_an_error_naming_the_file() {
-    // DESIGN: a mesh with no drawable face is an error (it would render nothing).
+    // A mesh with no drawable face is an error (docs/conventions.md) (it would render nothing).
     for text in [
         format!("{TRI}f 1 1 1\nf 1 2 2\n"),
         "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n".to_owned(),

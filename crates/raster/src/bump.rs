@@ -1,4 +1,4 @@
-//! Bump mapping (seeds: "perturbing the normals before applying the shading algorithm"): a
+//! Bump mapping (Blinn 1978: the normal is perturbed before the shading model is applied): a
 //! height field `h(u, v)` tilts the interpolated normal in the tangent frame,
 //! `N' = normalize(N - scale (dh/du T + dh/dv B))`, `B = w (N x T)` with the tangent's
 //! handedness `w`. Used by `phong`, `reference`, and `fast-phong` (which draws bumped items

@@ -2,7 +2,7 @@
 
 use glam::{Mat4, Vec3};
 
-/// A perspective camera in world space (OpenGL right-handed conventions, DESIGN.md).
+/// A perspective camera in world space (OpenGL right-handed conventions, see `docs/conventions.md`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     /// Eye position (also the viewer position `V` of the lighting model).

@@ -12,7 +12,7 @@ pub enum Encoding {
     /// The sRGB transfer curve (IEC 61966-2-1), for display.
     #[default]
     Srgb,
-    /// The linear value times 255, rounded (the seeds' intensity as is; S1 uses it).
+    /// The linear value times 255, rounded (the intensity as is, the classic display range; S1 uses it).
     Linear,
 }
 

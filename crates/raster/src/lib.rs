@@ -9,13 +9,13 @@
 //! band in two passes, depth first, so each pixel is shaded once, and shade four pixels at a
 //! time (`phosphor_lighting::shade_x4`, bit-identical to the scalar model).
 //!
-//! Conventions (DESIGN.md): row 0 at the top, pixel centres at `(x + 0.5, y + 0.5)`, front faces
+//! Conventions (`docs/conventions.md`): row 0 at the top, pixel centres at `(x + 0.5, y + 0.5)`, front faces
 //! counter-clockwise. Coverage follows a top-left rule for spans: rows `ceil(y0 - 0.5) ..
 //! ceil(y2 - 0.5)`, pixels `[ceil(xl - 0.5), ceil(xr - 0.5))`, evaluated exactly in integers,
 //! so a pixel centre on an edge shared by two triangles is drawn exactly once. Attributes are
 //! perspective-correct by default (`A/w` and `1/w` stepped, divided per pixel); with
 //! [`RenderOptions::perspective_correct`] off they are stepped linearly in screen space, the
-//! seeds' "carried out in two dimensions" approximation.
+//! classic approximation of interpolating in two dimensions (Gouraud 1971, Phong 1975).
 //!
 //! Shading modes ([`ShadingMode`]): `flat`, `gouraud`, `phong`, `fast-phong` (quadratic fit
 //! with a per-triangle fallback to `phong`) and `reference` (f64, exact). See [`shade`] for the
@@ -41,6 +41,7 @@
 //!     effects: Effects::ALL,
 //!     mode: ShadingMode::Phong,
 //!     bump: None,
+//!     cull_backfaces: false,
 //! };
 //! let mut fb = Framebuffer::new(64, 48).unwrap();
 //! let stats = render(&mut fb, &Camera::s1(), &[draw], &RenderOptions::default());
@@ -82,7 +83,7 @@ pub use framebuffer::{Framebuffer, RasterError};
 pub use render::{coverage_counts, render, render_fill_only};
 pub use shade::fast_phong::FAST_PHONG_TOLERANCE;
 
-/// The shading modes (DESIGN.md table); names as used by the CLI and scene files.
+/// The shading modes; names as used by the CLI and scene files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ShadingMode {
     /// Once per triangle, face normal, at the centroid.
@@ -173,6 +174,10 @@ pub struct DrawItem<'a> {
     pub mode: ShadingMode,
     /// Optional height field (with BUMP in `effects`, uvs and tangents in the mesh).
     pub bump: Option<&'a BumpMap>,
+    /// Skip this draw's triangles facing away (clockwise on screen), as
+    /// [`RenderOptions::cull_backfaces`] does for every draw. Exact only for a closed solid seen
+    /// from outside; the scene's frame plan decides when that holds.
+    pub cull_backfaces: bool,
 }
 
 /// Frame-wide options.
@@ -180,7 +185,8 @@ pub struct DrawItem<'a> {
 pub struct RenderOptions {
     /// Worker threads; 0 = all cores. The picture does not depend on it.
     pub threads: usize,
-    /// Perspective-correct attributes (default); false = screen-space linear (the seeds).
+    /// Perspective-correct attributes (default); false = screen-space linear
+    /// (Gouraud 1971, Phong 1975).
     pub perspective_correct: bool,
     /// Skip triangles facing away (clockwise on screen).
     pub cull_backfaces: bool,

@@ -301,6 +301,7 @@ fn run<M: Mode>(
     let verts = vertex_stage(d, vp, opts.threads);
     let guard = guard_band(w, h);
     let persp = opts.perspective_correct;
+    let cull = opts.cull_backfaces || d.cull_backfaces;
     // Per vertex, once (a mesh vertex is shared by about six triangles), in one pass: the
     // mode's attributes and, for a vertex inside every clip plane, its snapped screen position
     // and attributes (divided by w), written compactly: accepting and band set-up fetch
@@ -373,7 +374,7 @@ fn run<M: Mode>(
             let p = [pos[i0], pos[i1], pos[i2]];
             if !p.iter().any(ScreenPos::is_none) {
                 // The common case: no clipping, screen vertices from the per-vertex pass.
-                let Some(rows) = accept(p, opts.cull_backfaces) else {
+                let Some(rows) = accept(p, cull) else {
                     continue;
                 };
                 drawn += 1;
@@ -440,7 +441,7 @@ fn run<M: Mode>(
                     continue;
                 };
                 let p = [a.pos(), b.pos(), c.pos()];
-                let Some(rows) = accept(p, opts.cull_backfaces) else {
+                let Some(rows) = accept(p, cull) else {
                     continue;
                 };
                 any = true;

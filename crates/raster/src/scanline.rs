@@ -7,10 +7,11 @@
 //! an edge evaluate it from the same two integer endpoints, so they split its pixels without gap
 //! or overlap.
 //!
-//! Attributes follow the seeds' incremental form: each is a plane `A(x, y)`; at a span start it
-//! is evaluated once, then stepped by the triangle's constant `dA/dx` per pixel
-//! (`(I5 - I4)/(x5 - x4)`), never re-solved per pixel. With perspective the stepped values are
-//! `A/w` and `1/w`, divided per pixel.
+//! Attributes are planes `A(x, y)`: at each span start every plane is evaluated afresh, then
+//! stepped along the span by the triangle's constant `dA/dx` per pixel (Gouraud 1971's
+//! `(I5 - I4)/(x5 - x4)`). Unlike the classic scan-line algorithm, nothing is stepped from one
+//! scan line to the next, so no rounding error accumulates down a tall triangle. With
+//! perspective the stepped values are `A/w` and `1/w`, divided per pixel.
 //!
 //! A band can be drawn in two passes ([`Pass`]): depth only, recording which triangle is
 //! nearest at each pixel, then shading only those pixels. The picture is the same as one pass
@@ -425,8 +426,8 @@ fn planes_at(inv_w: &[f64; 3], a: [&Attrs; 3], (ox, oy): (f64, f64), n: usize) -
 /// interpolated attributes: every pixel whose id (from [`depth_only`], `epoch + k`) names
 /// record `k` of the band gets the colour of that triangle's `planes[slot[k]]`, four pixels per
 /// call, with no second traversal of the triangles. Along a row, a run of pixels of one
-/// triangle is evaluated once at its first pixel and then stepped by `dA/dx` (the seeds'
-/// incremental form, as in the traversal's spans). Only columns `extents[row]` are read.
+/// triangle is evaluated once at its first pixel and then stepped by `dA/dx` (the incremental
+/// form along a span, as in the traversal's spans). Only columns `extents[row]` are read.
 #[derive(Debug, Clone, Copy)]
 pub struct ByPixel<'a> {
     /// Per record of the band: its index in `planes`, or `u32::MAX` when it has none.

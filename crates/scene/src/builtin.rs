@@ -67,8 +67,9 @@ impl Scene {
         Ok(s)
     }
 
-    /// The standard scene S1 (DESIGN.md) around the OBJ mesh at `path`: normalized, normals
-    /// averaged over every face sharing a position unless the file has `vn` or `s` lines,
+    /// The standard scene S1 (docs/conventions.md) around the mesh file at `path` (OBJ, PLY, STL, glTF or
+    /// GLB, by extension): normalized, normals averaged over every face sharing a position
+    /// unless the file has authored normals (`vn`) or smoothing groups (`s` lines),
     /// three attenuated point lights, linear encoding.
     ///
     /// # Errors
@@ -77,7 +78,7 @@ impl Scene {
         Scene::s1_lights_with_mesh(path, NormalOptions::s1())
     }
 
-    /// S1's lights, material and settings around the OBJ mesh at `path` (normalized), with
+    /// S1's lights, material and settings around the mesh file at `path` (any format [`Scene::s1_with_mesh`] takes; normalized), with
     /// normals built as `normals` says instead of S1's: what `--mesh` shows, where a cube
     /// should keep its edges. The camera is still S1's; callers frame the mesh themselves
     /// (see [`crate::view::framed_camera`]).
@@ -86,7 +87,7 @@ impl Scene {
     /// The mesh's error (file and line).
     pub fn s1_lights_with_mesh(path: &Path, normals: NormalOptions) -> Result<Scene, SceneError> {
         let (mut mesh, warnings) =
-            phosphor_mesh::load_obj_with_warnings(path, &normals).map_err(|source| {
+            phosphor_mesh::load_mesh_with_warnings(path, &normals).map_err(|source| {
                 SceneError::Mesh {
                     file: "S1".to_owned(),
                     field: "--mesh".to_owned(),

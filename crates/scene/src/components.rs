@@ -101,7 +101,62 @@ pub enum Primitive {
     },
 }
 
+/// Memory all the primitive meshes of one scene may take while built, in bytes (each
+/// distinct primitive counted once, by [`Primitive::footprint`]): room for one primitive at
+/// the largest counts a scene file allows (4096 x 4096, about 2.7 GB), with the renderer's
+/// own per-frame buffers still to fit beside it.
+pub const PRIMITIVE_BUDGET_BYTES: u64 = 4_000_000_000;
+
 impl Primitive {
+    /// The size of the mesh [`Primitive::build`] makes, known before building it.
+    #[must_use]
+    pub fn footprint(&self) -> phosphor_mesh::primitives::Footprint {
+        use phosphor_mesh::primitives as p;
+        match *self {
+            Primitive::Sphere {
+                segments, rings, ..
+            } => p::uv_sphere_footprint(segments, rings),
+            Primitive::Cube { .. } => p::cube_footprint(),
+            Primitive::Cylinder { segments, .. } => p::cylinder_footprint(segments),
+            Primitive::Torus {
+                segments, sides, ..
+            } => p::torus_footprint(segments, sides),
+            Primitive::Plane { subdivisions, .. } => p::plane_footprint(subdivisions),
+        }
+    }
+
+    /// Builds the mesh when its footprint is within `limit_bytes`, without aborting when the
+    /// system refuses the memory; the error names the count that sized it.
+    pub fn try_build(
+        &self,
+        limit_bytes: u64,
+    ) -> Result<Mesh, phosphor_mesh::primitives::PrimitiveError> {
+        use phosphor_mesh::primitives as p;
+        match *self {
+            Primitive::Sphere {
+                radius,
+                segments,
+                rings,
+            } => p::try_uv_sphere(radius, segments, rings, limit_bytes),
+            Primitive::Cube { half_size } => Ok(p::cube(half_size)),
+            Primitive::Cylinder {
+                radius,
+                height,
+                segments,
+            } => p::try_cylinder(radius, height, segments, limit_bytes),
+            Primitive::Torus {
+                major,
+                minor,
+                segments,
+                sides,
+            } => p::try_torus(major, minor, segments, sides, limit_bytes),
+            Primitive::Plane {
+                half_size,
+                subdivisions,
+            } => p::try_plane(half_size, subdivisions, limit_bytes),
+        }
+    }
+
     /// Builds the mesh.
     #[must_use]
     pub fn build(&self) -> Mesh {
@@ -135,7 +190,8 @@ impl Primitive {
 /// Where an object's mesh came from (kept so a scene can be saved as it was written).
 #[derive(Debug, Clone, PartialEq)]
 pub enum MeshSource {
-    /// An OBJ file: the path as written in the scene file, and as resolved.
+    /// A mesh file (OBJ, PLY, STL, glTF, GLB): the path as written in the scene file, and as
+    /// resolved.
     File {
         /// As written (relative to the scene file).
         written: String,
@@ -251,10 +307,13 @@ pub struct MeshInfo {
     /// triangle, not of the worst one (a crease-split sliver should not decide for a mesh).
     pub typical_normal_spread: f32,
     /// Every triangle's vertex normals equal its face normal (within 1e-3 rad): a polyhedron,
-    /// the seeds' condition (c) for flat shading.
+    /// the lecture notes' condition (c) for flat shading.
     pub polyhedron: bool,
     /// Axis of a cone holding every vertex normal, when one narrower than 90 degrees exists.
     pub normal_cone: Option<(Vec3, f32)>,
+    /// The mesh bounds a solid: closed, consistently and outwardly oriented
+    /// ([`phosphor_mesh::is_closed_solid`]), so its back faces are hidden from outside.
+    pub closed: bool,
 }
 
 /// Angle between two unit vectors, robust near 0 and pi.
@@ -320,6 +379,7 @@ impl MeshInfo {
             typical_normal_spread: typical,
             polyhedron,
             normal_cone: normal_cone(&mesh.normals),
+            closed: phosphor_mesh::is_closed_solid(&mesh.positions, &mesh.indices),
         }
     }
 }

@@ -4,7 +4,7 @@ use thiserror::Error;
 
 /// A scene that could not be loaded, saved or built.
 ///
-/// `Display` is `FILE: FIELD: what` (DESIGN.md "Messages"), for example
+/// `Display` is `FILE: FIELD: what` (docs/conventions.md, "Messages"), for example
 /// `s1.toml: lights[2].intensity: expected 3 numbers, found 2`. A mesh error keeps the mesh
 /// crate's own `OBJ:LINE: what` after the field that named the mesh.
 #[derive(Debug, Error)]
@@ -45,7 +45,7 @@ pub enum SceneError {
         file: String,
         /// The field that named the mesh, `objects[0].mesh`.
         field: String,
-        /// The mesh crate's error (names the OBJ file and line).
+        /// The mesh crate's error (names the mesh file and its line or element).
         #[source]
         source: phosphor_mesh::MeshError,
     },

@@ -42,7 +42,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! Scene files follow DESIGN.md's format; see `assets/scenes/default.toml` for every field.
+//! Scene files follow the format of docs/conventions.md ("Scene files"); see
+//! `assets/scenes/default.toml` for every field.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -52,6 +53,7 @@ use hecs::{Entity, World};
 use phosphor_lighting::Light;
 use phosphor_raster::{Camera, Encoding};
 
+pub mod budget;
 pub mod builtin;
 pub mod components;
 pub mod error;
@@ -60,6 +62,7 @@ pub mod plan;
 pub mod render;
 pub mod view;
 
+pub use budget::{MAX_DISTRIBUTED_SAMPLES, SampleCut, limit_distributed_samples, point_samples};
 pub use components::{
     Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, Primitive,
     SceneMesh, Shading, ShadingChoice, Transform,
@@ -91,8 +94,22 @@ pub struct RenderSettings {
     pub background: Vec3,
     /// Perspective-correct interpolation (on unless set).
     pub perspective_correct: bool,
-    /// Skip back faces (off unless set: S1 draws both sides).
-    pub cull_backfaces: bool,
+    /// Which back faces to skip (`auto` unless set: only where that cannot change a pixel).
+    pub cull_backfaces: CullChoice,
+}
+
+/// Back-face culling of a scene (`[render] cull_backfaces`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CullChoice {
+    /// Per object, where skipping back faces cannot change a pixel: a closed, outward
+    /// oriented mesh ([`phosphor_mesh::is_closed_solid`]) under a transform that keeps its
+    /// orientation, with the eye (and the near plane) outside its bounds.
+    #[default]
+    Auto,
+    /// Every object's back faces (`true`): open meshes show holes where their back is seen.
+    Always,
+    /// None (`false`): both sides of every triangle are drawn.
+    Never,
 }
 
 impl Default for RenderSettings {
@@ -104,7 +121,7 @@ impl Default for RenderSettings {
             encoding: Encoding::Srgb,
             background: Vec3::ZERO,
             perspective_correct: true,
-            cull_backfaces: false,
+            cull_backfaces: CullChoice::Auto,
         }
     }
 }

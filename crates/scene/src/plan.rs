@@ -6,7 +6,7 @@
 //! - disabled or zero-intensity lights;
 //! - the wrong side: every normal of the object lies in a cone that faces away from every
 //!   direction towards the light over the object's bounding sphere (`N.L <= 0` everywhere, so
-//!   the seeds' diffuse and specular terms are both 0); never for bump-mapped objects, whose
+//!   the diffuse and specular terms are both 0); never for bump-mapped objects, whose
 //!   normals leave the cone;
 //! - out of range: a spot light whose outer cone misses the bounding sphere.
 //!
@@ -17,8 +17,8 @@
 //! produce ([`phosphor_lighting::effects_for`]), plus BUMP for a bump-mapped object drawn per
 //! pixel. The raster kernel is compiled per effect set, so an absent term costs nothing.
 //!
-//! Shading `auto` uses the seeds' conditions, with error estimates against one 8-bit code
-//! ([`AUTO_TOLERANCE`]): see [`choose_mode`].
+//! Shading `auto` uses the lecture notes' conditions for flat shading, with error estimates against
+//! one 8-bit code ([`AUTO_TOLERANCE`]): see [`choose_mode`].
 
 use std::collections::HashMap;
 use std::fmt;
@@ -31,10 +31,10 @@ use phosphor_lighting::{
 };
 use phosphor_raster::{BumpMap, Camera, ShadingMode};
 
-use crate::Scene;
 use crate::components::{
     Bump, MeshInfo, MeshRef, Name, SceneMesh, Shading, ShadingChoice, Transform,
 };
+use crate::{CullChoice, Scene};
 
 /// `auto` accepts a cheaper mode when its estimated error is at most this (one 8-bit code).
 pub const AUTO_TOLERANCE: f32 = 1.0 / 255.0;
@@ -124,6 +124,10 @@ pub struct PlannedObject {
     pub lights: Vec<usize>,
     /// Index into [`FramePlan::light_sets`].
     pub light_set: usize,
+    /// Whether its back faces are skipped.
+    pub cull_backfaces: bool,
+    /// Why they are or are not.
+    pub cull_reason: &'static str,
 }
 
 /// What one frame will draw, and how.
@@ -144,6 +148,49 @@ pub struct FramePlan {
 struct Sphere {
     center: Vec3,
     radius: f32,
+}
+
+/// Whether an object's back faces can be skipped (and why): see [`CullChoice`]. Exact under
+/// `auto` because from an eye outside a closed, outward-oriented solid every ray meets a
+/// front face before any back face; the near plane must not cut the solid either, so the
+/// bounds are grown by the distance from the eye to the near plane's corners.
+fn cull_decision(
+    choice: CullChoice,
+    info: &MeshInfo,
+    model: Mat4,
+    camera: &Camera,
+    aspect: f32,
+) -> (bool, &'static str) {
+    match choice {
+        CullChoice::Always => return (true, "culled: the scene culls every object"),
+        CullChoice::Never => return (false, "drawn: the scene draws both sides"),
+        CullChoice::Auto => {}
+    }
+    if !info.closed {
+        return (
+            false,
+            "drawn: the mesh is not a closed, outward-oriented solid",
+        );
+    }
+    let det = glam::Mat3::from_mat4(model).determinant();
+    if !(det.is_finite() && det > 0.0) {
+        return (false, "drawn: the transform mirrors or flattens the mesh");
+    }
+    let corners = world_corners(info, model);
+    let lo = corners.iter().copied().fold(Vec3::INFINITY, Vec3::min);
+    let hi = corners.iter().copied().fold(Vec3::NEG_INFINITY, Vec3::max);
+    let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let near_reach = camera.near * (1.0 + tan_half * tan_half * (1.0 + aspect * aspect)).sqrt();
+    let margin = Vec3::splat(near_reach.max(0.0) * 1.001 + 1e-6);
+    let (lo, hi) = (lo - margin, hi + margin);
+    let inside = camera.eye.cmpge(lo).all() && camera.eye.cmple(hi).all();
+    if !(lo.is_finite() && hi.is_finite()) || inside {
+        return (
+            false,
+            "drawn: the eye or the near plane is inside its bounds",
+        );
+    }
+    (true, "culled: a closed solid seen from outside")
 }
 
 /// The six frustum planes of an OpenGL view-projection matrix (Gribb & Hartmann), each
@@ -399,7 +446,7 @@ pub struct AutoInput<'a> {
 
 /// `auto`: the cheapest mode that is good enough, with the reason.
 ///
-/// - `flat` where the object is a polyhedron (the seeds' condition c) and lights and viewer
+/// - `flat` where the object is a polyhedron (the lecture notes' condition c) and lights and viewer
 ///   are far enough that N.L and V.R barely vary over a face (conditions a and b): estimated
 ///   error at most [`AUTO_TOLERANCE`].
 /// - `gouraud` where there is no specular term and the mesh is fine relative to the light's
@@ -407,8 +454,8 @@ pub struct AutoInput<'a> {
 /// - `phong` where highlights are smaller than the triangles (the highlight's half-width in
 ///   normal angle is less than the normals' spread within a typical triangle, the 90th
 ///   percentile), and for bump maps.
-/// - `fast-phong` otherwise: the highlights span several triangles, where the Taylor
-///   expansion holds (and its per-triangle fallback guards the rest), provided the triangles
+/// - `fast-phong` otherwise: the highlights span several triangles, where a quadratic
+///   fit holds (and its per-triangle fallback guards the rest), provided the triangles
 ///   are large enough on screen for its fit to pay ([`FAST_PHONG_MIN_PIXELS`]); `phong`
 ///   where they are not.
 #[must_use]
@@ -624,6 +671,13 @@ pub fn plan_frame(
         );
         let bump = if bumped && per_pixel { bump } else { None };
         effects = effects.with(Effects::BUMP, bump.is_some());
+        let (cull_backfaces, cull_reason) = cull_decision(
+            scene.settings.cull_backfaces,
+            &mesh.info,
+            model,
+            camera,
+            aspect,
+        );
         plan.objects.push(PlannedObject {
             entity,
             name,
@@ -636,6 +690,8 @@ pub fn plan_frame(
             effects,
             lights: kept,
             light_set: set_index,
+            cull_backfaces,
+            cull_reason,
         });
     }
     plan
@@ -672,6 +728,7 @@ impl fmt::Display for FramePlan {
                     effects.join(", ")
                 }
             )?;
+            writeln!(f, "    back faces: {}", o.cull_reason)?;
             writeln!(
                 f,
                 "    lights: {} of {}{}",

@@ -42,6 +42,7 @@ pub fn draw_items(plan: &FramePlan) -> Vec<DrawItem<'_>> {
                 effects: o.effects,
                 mode: o.mode,
                 bump: o.bump.as_deref(),
+                cull_backfaces: o.cull_backfaces,
             }
         })
         .collect()
@@ -55,7 +56,8 @@ pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
         perspective_correct: opts
             .perspective_correct
             .unwrap_or(scene.settings.perspective_correct),
-        cull_backfaces: scene.settings.cull_backfaces,
+        // Decided per object by the plan (`PlannedObject::cull_backfaces`).
+        cull_backfaces: false,
         background: scene.settings.background,
     }
 }

@@ -26,7 +26,7 @@ fn embedded_default_scene_loads_with_every_kind_of_thing() {
 }
 
 #[test]
-fn shipped_s1_scene_matches_the_design() {
+fn shipped_s1_scene_matches_the_s1_definition() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/s1.toml");
     let s = Scene::load(&path).unwrap();
     assert_eq!(s.camera(), phosphor_raster::Camera::s1());
@@ -145,6 +145,26 @@ fn materials_and_objects_are_checked_by_field() {
         "t.toml: materials.m.shininess: must be non-negative, got -1"
     );
     assert_eq!(
+        err("[materials.m]\nshininess = nan\n"),
+        "t.toml: materials.m.shininess: must be a number >= 0 or inf, got NaN"
+    );
+    assert_eq!(
+        err("[materials.m]\nshininess = -inf\n"),
+        "t.toml: materials.m.shininess: must be a number >= 0 or inf, got -inf"
+    );
+    assert_eq!(
+        err("[materials.m]\nshininess = 1e300\n"),
+        "t.toml: materials.m.shininess: must be a finite number, got 1e300"
+    );
+    assert_eq!(
+        err("[materials.m]\nks = 0.5\nfresnel = { model = \"schlick\", mode = \"replace\" }\n"),
+        "t.toml: materials.m.ks: must be 1 under fresnel mode \"replace\" (W(theta) is the whole specular coefficient), got 0.5"
+    );
+    assert_eq!(
+        err("[materials.m]\nfresnel = { model = \"schlick\", mode = \"multiply\" }\n"),
+        "t.toml: materials.m.fresnel.mode: unknown value \"multiply\" (expected \"scale\", \"replace\")"
+    );
+    assert_eq!(
         err("[materials.m]\nkd = [0.5, 0.5, 1e40]\n"),
         "t.toml: materials.m.kd: must be finite, got 1e40"
     );
@@ -215,6 +235,39 @@ fn loaded_then_saved_scene_loads_to_the_same_world() {
         assert_eq!(
             *a.world.get::<&phosphor_lighting::Material>(ea).unwrap(),
             *b.world.get::<&phosphor_lighting::Material>(eb).unwrap()
+        );
+    }
+}
+
+#[test]
+fn perfect_mirror_and_fresnel_replace_load_save_and_render_finite() {
+    let text = "[[lights]]\ntype = \"point\"\nposition = [2, 2, 2]\nintensity = 3\n\
+        [materials.mirror]\nkd = 0.2\nshininess = inf\n\
+        fresnel = { model = \"schlick\", f0 = 0.04, mode = \"replace\" }\n\
+        [[objects]]\nprimitive = { shape = \"sphere\", segments = 24, rings = 12 }\n\
+        material = \"mirror\"\n";
+    let a = Scene::parse(text, "mirror.toml").unwrap();
+    let m = a.materials["mirror"].material;
+    assert_eq!(m.shininess, f32::INFINITY);
+    assert_eq!(m.fresnel_mode, phosphor_lighting::FresnelMode::Replace);
+    assert_eq!(m.ks, Vec3::ONE, "replace without ks holds ks at 1");
+    let saved = scene_to_toml(&a);
+    assert!(saved.contains("shininess = inf"), "{saved}");
+    assert!(saved.contains("mode = \"replace\""), "{saved}");
+    let b = Scene::parse(&saved, "saved.toml").unwrap();
+    assert_eq!(a.materials, b.materials);
+    for mode in ShadingMode::ALL {
+        let mut fb = Framebuffer::new(40, 30).unwrap();
+        let opts = FrameOptions {
+            shading: Some(ShadingChoice::Mode(mode)),
+            ..FrameOptions::default()
+        };
+        render_frame(&a, &mut fb, &opts);
+        assert!(
+            fb.color()
+                .iter()
+                .all(|c| c.is_finite() && c.min_element() >= 0.0 && c.max_element() <= 1.0),
+            "{mode}"
         );
     }
 }
@@ -400,7 +453,7 @@ fn auto_mode(body: &str) -> (ShadingMode, String) {
 }
 
 #[test]
-fn auto_follows_the_seeds_conditions() {
+fn auto_follows_the_notes_flat_shading_conditions() {
     let sun = "[[lights]]\ntype = \"directional\"\ndirection = [-1, -1, -1]\nintensity = 1\n";
     let near = "[[lights]]\ntype = \"point\"\nposition = [1.5, 1.5, 1.5]\nintensity = 1\n";
     // A polyhedron, matte, under the sun: N.L is constant per face, so flat is exact.
@@ -495,4 +548,119 @@ fn pixels_per_triangle_is_the_projected_disc_over_the_front_half() {
         );
         assert!(v.is_finite() && v >= 0.0, "{r} {n}: {v}");
     }
+}
+
+/// Objects with the largest primitive counts a scene file allows.
+fn big_primitives(shapes: &[&str]) -> String {
+    shapes
+        .iter()
+        .enumerate()
+        .map(|(i, shape)| {
+            format!("[[objects]]\nprimitive = {shape}\ntransform = {{ translate = [{i}, 0, 0] }}\n")
+        })
+        .collect()
+}
+
+#[test]
+fn primitives_over_the_memory_budget_are_refused_naming_the_count_before_allocating() {
+    // Four distinct spheres at 4096 x 4096 would take about 10 GB: the second one is refused.
+    let sphere = "{ shape = \"sphere\", radius = 1, segments = 4096, rings = 4096 }";
+    let sphere2 = "{ shape = \"sphere\", radius = 2, segments = 4096, rings = 4096 }";
+    let e = err(&big_primitives(&[sphere, sphere2, sphere, sphere2]));
+    assert!(
+        e.starts_with("t.toml: objects[1].primitive.segments: the mesh needs 2.5 GB"),
+        "{e}"
+    );
+    assert!(e.contains("earlier objects take 2.5 GB"), "{e}");
+    // Rings sizes the sphere when it is the larger count; the torus' sides likewise.
+    let rings = "{ shape = \"sphere\", segments = 3000, rings = 4096 }";
+    let e = err(&big_primitives(&[sphere, rings]));
+    assert!(e.starts_with("t.toml: objects[1].primitive.rings: "), "{e}");
+    let sides = "{ shape = \"torus\", segments = 4000, sides = 4096 }";
+    let e = err(&big_primitives(&[sphere, sides]));
+    assert!(
+        e.starts_with("t.toml: objects[1].primitive.sides: the mesh needs"),
+        "{e}"
+    );
+    let plane = "{ shape = \"plane\", subdivisions = 4096 }";
+    let e = err(&big_primitives(&[plane, sphere]));
+    assert!(
+        e.starts_with("t.toml: objects[1].primitive.segments: "),
+        "{e}"
+    );
+    let e = err(&big_primitives(&[sphere, plane]));
+    assert!(
+        e.starts_with("t.toml: objects[1].primitive.subdivisions: "),
+        "{e}"
+    );
+}
+
+#[test]
+fn primitive_footprints_bound_the_built_meshes() {
+    for p in [
+        Primitive::Sphere {
+            radius: 1.0,
+            segments: 24,
+            rings: 12,
+        },
+        Primitive::Cube { half_size: 1.0 },
+        Primitive::Cylinder {
+            radius: 1.0,
+            height: 1.0,
+            segments: 17,
+        },
+        Primitive::Torus {
+            major: 1.0,
+            minor: 0.3,
+            segments: 20,
+            sides: 9,
+        },
+        Primitive::Plane {
+            half_size: 1.0,
+            subdivisions: 5,
+        },
+    ] {
+        let f = p.footprint();
+        let m = p.try_build(f.bytes()).unwrap();
+        assert_eq!(m, p.build());
+        assert_eq!(m.positions.len() as u64, f.vertices, "{p:?}");
+        assert!(m.indices.len() as u64 <= f.triangles, "{p:?}");
+        assert!(p.try_build(f.bytes() - 1).is_err() || matches!(p, Primitive::Cube { .. }));
+    }
+}
+
+#[test]
+fn distributed_samples_over_the_budget_are_cut_with_a_warning_naming_the_field() {
+    let mut text = String::new();
+    for _ in 0..8 {
+        text.push_str(
+            "[[lights]]\ntype = \"rect\"\ncorner = [0, 2, 0]\nedge_u = [1, 0, 0]\nedge_v = [0, 0, 1]\nintensity = 1\nsamples = 256\n",
+        );
+    }
+    text.push_str("[[lights]]\ntype = \"point\"\nposition = [0, 3, 0]\nintensity = 1\n");
+    let s = Scene::parse(&text, "many.toml").unwrap();
+    assert_eq!(s.warnings.len(), 8, "{:?}", s.warnings);
+    assert!(
+        s.warnings[0].starts_with("warning: many.toml: lights[0].samples: 256 cut to 5 ("),
+        "{}",
+        s.warnings[0]
+    );
+    assert!(s.warnings[7].contains("lights[7].samples"));
+    let total: u64 = s.lights().iter().map(|(_, l)| point_samples(l)).sum();
+    assert!(total <= MAX_DISTRIBUTED_SAMPLES, "{total}");
+    // Names and order survive the cut.
+    assert_eq!(s.lights()[8].0, "light 8");
+    // Within the budget nothing is said.
+    let s = Scene::parse(&text.replace("samples = 256", "samples = 5"), "few.toml").unwrap();
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+}
+
+#[test]
+fn out_of_range_sample_counts_are_echoed_as_written() {
+    assert_eq!(
+        err(
+            "[[lights]]\ntype = \"tube\"\nstart = [0, 0, 0]\nend = [1, 0, 0]\nintensity = 1\nsamples = 4294967295\n"
+        ),
+        "t.toml: lights[0].samples: must be in [1, 256], got 4294967295"
+    );
 }

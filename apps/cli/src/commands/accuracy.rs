@@ -1,14 +1,18 @@
-//! `phosphor accuracy`: what accuracy costs in time. Renders the scene in every mode (and
-//! `phong`, `gouraud` once more with screen-space interpolation, the seeds' approximation),
+//! `phosphor accuracy`: what accuracy costs in time. Renders the scene in every mode (and `phong`,
+//! `gouraud` once more with screen-space interpolation, the lecture notes' scan-line formulas),
 //! times each as the median of `--frames` frames after one untimed frame, compares each with
 //! `reference` and prints one aligned table row per mode. With `--out-dir`: each mode's image
-//! (`MODE.png`, encoded as the scene says), its error heat-map (`MODE-error.png`, false colour
-//! with a labelled scale bar; none for the reference, whose map would be black) and
-//! `error-vs-time.png`.
+//! (`MODE.png`, encoded as the scene says), its error heat-map (`MODE-error.png`, false colour with
+//! a labelled scale bar; none for the reference, whose map would be black) and `error-vs-time.png`.
 //!
 //! The fixed-mode rows force perspective-correct interpolation on or off so their labels hold
 //! whatever the scene file says; `auto` is the scene as it asks to be drawn (per object, the
 //! plan's choice of mode, the scene's own interpolation setting).
+//!
+//! The last two columns are the Mach-band measure of [`crate::mach`]: the mean jump across the
+//! meshes' interior edges of the value (`flat`) or of the one-pixel slope (every other row), in
+//! 8-bit codes (codes per pixel for slopes), and its ratio to the same measure on `reference`.
+//! With `--out-dir` each row also gets `MODE-mach.png`, the jumps as a heat-map.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -17,12 +21,15 @@ use phosphor_math::glam::Vec3;
 use phosphor_raster::{Framebuffer, ShadingMode};
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
 
-use super::framebuffer;
-use super::render::write_image;
+use super::{framebuffer, size_field};
 use crate::CliError;
-use crate::accuracy::{ErrorStats, Rgb8Image, compare, heat_map, median, with_scale_labels};
+use crate::accuracy::{ErrorStats, compare, heat_map, median, with_scale_labels};
 use crate::args::AccuracyArgs;
-use crate::plot::{PlotPoint, encode_png, error_vs_time};
+use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory};
+use crate::mach::{EdgeJumps, JumpKind, TriangleIds, edge_jumps, jump_map, triangle_ids};
+use crate::output::{write_image, write_rgb8};
+use crate::plot::{PlotPoint, error_vs_time};
+use crate::progress::{Progress, time_left};
 
 /// Reference frames are timed only while they fit this budget (at least one is always timed):
 /// at large sizes one reference frame takes seconds, and the report must stay under a minute.
@@ -32,6 +39,11 @@ const REFERENCE_BUDGET: Duration = Duration::from_secs(8);
 /// saturate to white. One scale for every mode, so that their maps compare at a glance; fine
 /// enough that Gouraud's per-triangle error pattern (its Mach bands) shows beside the highlights.
 const HEAT_SCALE: f32 = 8.0 / 255.0;
+
+/// Top of the Mach heat-maps' scale for value jumps (`flat`) and slope jumps (the rest): one
+/// scale per kind for every row, so that the maps compare at a glance.
+const MACH_VALUE_SCALE: f32 = 16.0 / 255.0;
+const MACH_SLOPE_SCALE: f32 = 2.0 / 255.0;
 
 /// One row of the report.
 #[derive(Clone, Copy, Debug)]
@@ -85,6 +97,18 @@ struct Measured {
     ms: f64,
     /// Error against the reference.
     stats: ErrorStats,
+    /// The Mach-band measure: mean jump across interior edges, and its ratio to the reference's.
+    mach: (f64, f64),
+}
+
+impl Row {
+    /// The shading mode every object gets, if one is forced.
+    fn mode(self) -> Option<ShadingMode> {
+        match self.shading {
+            ShadingChoice::Mode(m) => Some(m),
+            ShadingChoice::Auto => None,
+        }
+    }
 }
 
 /// Renders one untimed frame of `row` into `fb` and returns a copy of its colours.
@@ -110,36 +134,70 @@ fn reference_frames(requested: u32, first: Duration) -> u32 {
     requested.min((fit.floor() as u32).max(1))
 }
 
-/// Median milliseconds of `frames` timed frames of `row`.
-fn time_frames(scene: &Scene, fb: &mut Framebuffer, row: Row, frames: u32) -> f64 {
+/// Median milliseconds of `frames` timed frames of `row`; `tick` after each.
+fn time_frames(
+    scene: &Scene,
+    fb: &mut Framebuffer,
+    row: Row,
+    frames: u32,
+    tick: &mut dyn FnMut(),
+) -> f64 {
     let opts = options(row);
     let times: Vec<f64> = (0..frames)
         .map(|_| {
             let start = Instant::now();
             render_frame(scene, fb, &opts);
-            start.elapsed().as_secs_f64() * 1e3
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            tick();
+            ms
         })
         .collect();
     median(&times)
 }
 
-/// Writes `bytes` to `out` through a temporary file and a rename (as `render` does).
-fn write_atomic(out: &Path, bytes: &[u8]) -> Result<(), CliError> {
-    let name = out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = out.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
-    let result = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, out));
-    result.map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        CliError::Input(format!("{}: cannot write: {e}", out.display()))
-    })
+/// Bytes per pixel the report holds at once: the framebuffer, the reference's and a mode's
+/// colours (linear f32 RGB), and a heat-map with its labelled copy (8-bit RGB).
+const BYTES_PER_PIXEL: u64 = FRAMEBUFFER_BYTES_PER_PIXEL + 12 + 12 + 3 + 3;
+
+/// Frames drawn so far against the frames the report will draw, on the progress line.
+struct Frames<'a> {
+    progress: &'a Progress,
+    done: u32,
+    total: u32,
 }
 
-fn write_rgb8(out: &Path, img: &Rgb8Image) -> Result<(), CliError> {
-    let bytes = encode_png(img).map_err(|e| CliError::Input(format!("{}: {e}", out.display())))?;
-    write_atomic(out, &bytes)
+impl Frames<'_> {
+    fn tick(&mut self) {
+        self.done += 1;
+        let f = f64::from(self.done) / f64::from(self.total.max(self.done));
+        self.progress.set(
+            &format!("measuring: frame {} of {}", self.done, self.total),
+            f,
+            time_left(self.progress.elapsed(), f),
+        );
+    }
+}
+
+/// Writes `MODE-mach.png`: the row's edge jumps as a labelled heat-map on its kind's scale.
+fn write_mach_map(
+    dir: &Path,
+    row: Row,
+    jumps: &EdgeJumps,
+    ids: &TriangleIds,
+    kind: JumpKind,
+    force: bool,
+) -> Result<(), CliError> {
+    let scale = match kind {
+        JumpKind::Value => MACH_VALUE_SCALE,
+        JumpKind::Slope => MACH_SLOPE_SCALE,
+    };
+    let map = jump_map(jumps, ids, scale)
+        .ok_or_else(|| CliError::Input("frames of different sizes".to_owned()))?;
+    write_rgb8(
+        &dir.join(format!("{}-mach.png", row.file)),
+        &with_scale_labels(&map, scale),
+        force,
+    )
 }
 
 /// What the table's header line calls the scene.
@@ -165,16 +223,36 @@ fn error_cell(value: f64) -> String {
     }
 }
 
+/// A Mach measure in the table: codes with three decimals, `-` when nothing was measured.
+fn mach_cell(jump: f64) -> String {
+    if jump.is_finite() {
+        format!("{:.3}", jump * 255.0)
+    } else {
+        "-".to_owned()
+    }
+}
+
+/// A ratio in the table: two decimals and `x`, `-` when undefined.
+fn ratio_cell(ratio: f64) -> String {
+    if ratio.is_finite() {
+        format!("{ratio:.2}x")
+    } else {
+        "-".to_owned()
+    }
+}
+
 fn print_table(rows: &[Measured], gouraud_ms: f64) {
     say!(
-        "{:<22}  {:>9}  {:>10}  {:>9}  {:>9}  {:>9}  {:>7}",
+        "{:<22}  {:>9}  {:>10}  {:>9}  {:>9}  {:>9}  {:>7}  {:>7}  {:>8}",
         "mode",
         "ms/frame",
         "vs gouraud",
         "RMSE",
         "PSNR dB",
         "max abs",
-        ">1/255"
+        ">1/255",
+        "mach",
+        "mach/ref"
     );
     for m in rows {
         let relative = if gouraud_ms > 0.0 {
@@ -183,14 +261,16 @@ fn print_table(rows: &[Measured], gouraud_ms: f64) {
             "-".to_owned()
         };
         say!(
-            "{:<22}  {:>9.1}  {:>10}  {:>9}  {:>9.2}  {:>9}  {:>6.2}%",
+            "{:<22}  {:>9.1}  {:>10}  {:>9}  {:>9.2}  {:>9}  {:>6.2}%  {:>7}  {:>8}",
             m.row.label,
             m.ms,
             relative,
             error_cell(m.stats.rmse),
             m.stats.psnr_db,
             error_cell(m.stats.max_abs),
-            m.stats.share_over_lsb * 100.0
+            m.stats.share_over_lsb * 100.0,
+            mach_cell(m.mach.0),
+            ratio_cell(m.mach.1)
         );
     }
 }
@@ -198,6 +278,11 @@ fn print_table(rows: &[Measured], gouraud_ms: f64) {
 /// Runs `phosphor accuracy`.
 pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let (scene, width, height) = crate::view::prepare(&args.source, &args.camera, args.size)?;
+    check_memory(
+        &size_field(&args.source, args.size),
+        (width, height),
+        BYTES_PER_PIXEL,
+    )?;
     let out_dir: Option<PathBuf> = args.out_dir.clone();
     if let Some(dir) = &out_dir {
         std::fs::create_dir_all(dir)
@@ -207,31 +292,76 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let encoding = scene.settings.encoding;
     let save = |fb: &Framebuffer, row: Row| -> Result<(), CliError> {
         match &out_dir {
-            Some(dir) => write_image(fb, &dir.join(format!("{}.png", row.file)), encoding),
+            Some(dir) => write_image(
+                fb,
+                &dir.join(format!("{}.png", row.file)),
+                encoding,
+                args.force,
+                &mut |_| {},
+            ),
             None => Ok(()),
         }
+    };
+    let progress = Progress::start("measuring");
+    // One untimed and `frames` timed frames per row (fewer for a slow reference).
+    let rows = ROWS.len() as u32;
+    let mut frames = Frames {
+        progress: &progress,
+        done: 0,
+        total: rows * (1 + args.frames),
     };
 
     // The reference first: its untimed frame is what every mode is compared with.
     let reference_row = ROWS[ROWS.len() - 1];
     let (reference, first_time) = render_image(&scene, &mut fb, reference_row);
+    frames.tick();
     save(&fb, reference_row)?;
     let reference_frames = reference_frames(args.frames, first_time);
-    let reference_ms = time_frames(&scene, &mut fb, reference_row, reference_frames);
+    frames.total -= args.frames - reference_frames;
+    let reference_ms = time_frames(
+        &scene,
+        &mut fb,
+        reference_row,
+        reference_frames,
+        &mut || {
+            frames.tick();
+        },
+    );
+
+    // The Mach measure's triangle ids, and the reference's own jumps of both kinds.
+    let ids = triangle_ids(&scene, width, height, &options(reference_row));
+    let reference_jumps = |kind| edge_jumps(&reference, &ids, kind);
+    let reference_mach =
+        [JumpKind::Value, JumpKind::Slope].map(|kind| (kind, reference_jumps(kind)));
+    let mach_of = |row: Row, image: &[Vec3]| -> Result<(f64, f64), CliError> {
+        let kind = JumpKind::for_mode(row.mode());
+        let jumps = edge_jumps(image, &ids, kind);
+        let base = reference_mach
+            .iter()
+            .find(|(k, _)| *k == kind)
+            .map_or(f64::NAN, |(_, j)| j.mean);
+        if let Some(dir) = &out_dir {
+            write_mach_map(dir, row, &jumps, &ids, kind, args.force)?;
+        }
+        Ok((jumps.mean, jumps.mean / base))
+    };
 
     let mut measured = Vec::with_capacity(ROWS.len());
     for row in ROWS {
         if row.label == reference_row.label {
             let stats = compare(&reference, &reference)
                 .ok_or_else(|| CliError::Input("the reference frame is empty".to_owned()))?;
+            let mach = mach_of(row, &reference)?;
             measured.push(Measured {
                 row,
                 ms: reference_ms,
                 stats,
+                mach,
             });
             continue;
         }
         let (image, _) = render_image(&scene, &mut fb, row);
+        frames.tick();
         save(&fb, row)?;
         let stats = compare(&image, &reference)
             .ok_or_else(|| CliError::Input("frames of different sizes".to_owned()))?;
@@ -239,11 +369,18 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             let map = heat_map(&image, &reference, width, height, HEAT_SCALE)
                 .ok_or_else(|| CliError::Input("frames of different sizes".to_owned()))?;
             let path = dir.join(format!("{}-error.png", row.file));
-            write_rgb8(&path, &with_scale_labels(&map, HEAT_SCALE))?;
+            write_rgb8(&path, &with_scale_labels(&map, HEAT_SCALE), args.force)?;
         }
-        let ms = time_frames(&scene, &mut fb, row, args.frames);
-        measured.push(Measured { row, ms, stats });
+        let mach = mach_of(row, &image)?;
+        let ms = time_frames(&scene, &mut fb, row, args.frames, &mut || frames.tick());
+        measured.push(Measured {
+            row,
+            ms,
+            stats,
+            mach,
+        });
     }
+    progress.finish();
 
     let threads = thread_count();
     say!(
@@ -266,6 +403,19 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         .find(|m| m.row.label == "gouraud")
         .map_or(0.0, |m| m.ms);
     print_table(&measured, gouraud_ms);
+    let [(_, value), (_, slope)] = &reference_mach;
+    say!(
+        "mach: mean jump across {} interior edges ({} pixel pairs) of the value (flat, codes) or the one-pixel slope (others, codes/px); mach/ref: against reference's {} (value) and {} (slope){}",
+        value.edges,
+        value.pairs,
+        mach_cell(value.mean),
+        mach_cell(slope.mean),
+        if ids.undecoded > 0 {
+            format!("; {} pixels without a triangle id", ids.undecoded)
+        } else {
+            String::new()
+        }
+    );
 
     if let Some(dir) = &out_dir {
         let points: Vec<PlotPoint> = measured
@@ -280,11 +430,14 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         write_rgb8(
             &dir.join("error-vs-time.png"),
             &error_vs_time(&title, &points),
+            args.force,
         )?;
         say!(
-            "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), error-vs-time.png",
+            "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), MODE-mach.png (edge jumps, white at {:.0}/255 for values, {:.0}/255 per pixel for slopes), error-vs-time.png",
             dir.display(),
-            HEAT_SCALE
+            HEAT_SCALE,
+            MACH_VALUE_SCALE * 255.0,
+            MACH_SLOPE_SCALE * 255.0
         );
     }
     Ok(())

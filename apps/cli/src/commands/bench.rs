@@ -1,16 +1,17 @@
-//! `phosphor bench`: frame times per mode, after a warm-up, loading excluded. One line per
-//! mode, exactly `MODE median_ms=X min_ms=Y max_ms=Z frames=N` (DESIGN.md), so scripts can
-//! compare runs.
+//! `phosphor bench`: frame times per mode, after a warm-up, loading excluded. One line per mode,
+//! exactly `MODE median_ms=X min_ms=Y max_ms=Z frames=N` (docs/conventions.md, "Messages"), so
+//! scripts can compare runs.
 
 use std::time::Instant;
 
 use phosphor_raster::ShadingMode;
 use phosphor_scene::{FrameOptions, ShadingChoice, render_frame};
 
-use super::framebuffer;
+use super::{framebuffer, size_field};
 use crate::CliError;
 use crate::accuracy::median;
 use crate::args::{BenchArgs, BenchMode};
+use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, threads};
 
 fn choices(mode: BenchMode) -> Vec<ShadingChoice> {
     let m = ShadingChoice::Mode;
@@ -32,11 +33,17 @@ fn choices(mode: BenchMode) -> Vec<ShadingChoice> {
 /// Runs `phosphor bench`.
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let (scene, width, height) = crate::view::prepare(&args.source, &args.camera, args.size)?;
+    check_memory(
+        &size_field(&args.source, args.size),
+        (width, height),
+        FRAMEBUFFER_BYTES_PER_PIXEL,
+    )?;
     let mut fb = framebuffer(width, height)?;
+    let threads = threads(args.threads);
     for choice in choices(args.shading) {
         let opts = FrameOptions {
             shading: Some(choice),
-            threads: args.threads.unwrap_or(0),
+            threads,
             ..FrameOptions::default()
         };
         render_frame(&scene, &mut fb, &opts); // warm-up: caches, thread pool, tables

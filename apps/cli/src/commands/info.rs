@@ -1,7 +1,9 @@
-//! `phosphor info FILE.obj`: what a mesh holds, as the renderer will see it (DESIGN.md's
+//! `phosphor info FILE.obj`: what a mesh holds, as the renderer will see it (docs/conventions.md's
 //! normal conventions: `vn` as authored, else smoothing groups, else a 60-degree crease).
+//! PLY, STL and glTF files are read by extension; `positions` counts the points faces share
+//! after welding (an STL stores three per triangle), `vertices` what the renderer draws.
 
-use phosphor_mesh::NormalOptions;
+use phosphor_mesh::{MeshFormat, NormalOptions};
 
 use crate::CliError;
 use crate::args::InfoArgs;
@@ -9,12 +11,16 @@ use crate::args::InfoArgs;
 /// Runs `phosphor info`.
 pub fn run(args: &InfoArgs) -> Result<(), CliError> {
     let (mesh, warnings) =
-        phosphor_mesh::load_obj_with_warnings(&args.mesh, &NormalOptions::default())
+        phosphor_mesh::load_mesh_with_warnings(&args.mesh, &NormalOptions::default())
             .map_err(|e| CliError::Input(e.to_string()))?;
     for w in warnings {
-        eprintln!("warning: {w}");
+        phosphor_output::term::warn(&w);
     }
     say!("file:             {}", args.mesh.display());
+    say!(
+        "format:           {}",
+        MeshFormat::from_path(&args.mesh).name()
+    );
     say!("{}", mesh.stats());
     say!(
         "groups:           {}",

@@ -7,16 +7,16 @@ pub mod info;
 pub mod render;
 
 use phosphor_raster::ShadingMode;
-use phosphor_scene::{Scene, ShadingChoice};
+use phosphor_scene::{CullChoice, Scene, ShadingChoice};
 
 use crate::CliError;
-use crate::args::{ModeArg, SceneSource, Size};
+use crate::args::{CullArg, ModeArg, SceneSource, Size};
 
-/// Loads the scene a command names: a scene file, a mesh under S1's lights (normals as the
-/// `--mesh` flags say), or the embedded default. Warnings (missing MTL, ignored bump maps) go to
-/// stderr, one line each.
+/// Loads the scene a command names: a scene file, a mesh in S1, or the embedded default.
+/// Warnings (missing MTL, ignored bump maps, samples cut to the budget) go to stderr, one
+/// short line each.
 pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
-    let scene = match (&source.scene, &source.mesh) {
+    let mut scene = match (&source.scene, &source.mesh) {
         (Some(path), _) => Scene::load(path),
         (None, Some(mesh)) => {
             Scene::s1_lights_with_mesh(mesh, crate::view::normal_options(&source.normals, true)?)
@@ -24,8 +24,15 @@ pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
         (None, None) => Scene::default_scene(),
     }
     .map_err(|e| CliError::Input(e.to_string()))?;
+    if let Some(cull) = source.cull {
+        scene.settings.cull_backfaces = match cull {
+            CullArg::Auto => CullChoice::Auto,
+            CullArg::Always => CullChoice::Always,
+            CullArg::Never => CullChoice::Never,
+        };
+    }
     for w in &scene.warnings {
-        eprintln!("{w}");
+        phosphor_output::term::warn(w);
     }
     Ok(scene)
 }
@@ -48,6 +55,16 @@ pub fn shading_choice(m: ModeArg) -> ShadingChoice {
         ModeArg::FastPhong => ShadingChoice::Mode(ShadingMode::FastPhong),
         ModeArg::Reference => ShadingChoice::Mode(ShadingMode::Reference),
         ModeArg::Auto => ShadingChoice::Auto,
+    }
+}
+
+/// What set a command's image size, for messages: `--size`, or the scene file's `render` table.
+#[must_use]
+pub fn size_field(source: &SceneSource, size: Option<Size>) -> String {
+    match (size, &source.scene) {
+        (Some(_), _) => "--size".to_owned(),
+        (None, Some(path)) => format!("{}: render.width, render.height", path.display()),
+        (None, None) => "the scene's size".to_owned(),
     }
 }
 

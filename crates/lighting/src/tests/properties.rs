@@ -81,10 +81,13 @@ proptest! {
     fn any_finite_input_gives_finite_output(
         p in any_vec(), n in any_vec(), eye in any_vec(),
         light_pos in any_vec(), il in any_vec(), k in any_vec(), ns in finite_f32(),
+        mirror in any::<bool>(),
     ) {
         let il = il.abs();
         let k = k.abs();
-        let mat = Material { ka: k, kd: k, ks: k, shininess: ns.abs(), ..Material::s1() };
+        // Half the cases are the perfect mirror, n_s = inf.
+        let shininess = if mirror { f32::INFINITY } else { ns.abs() };
+        let mat = Material { ka: k, kd: k, ks: k, shininess, ..Material::s1() };
         let lights = [
             crate::Light::point(light_pos, il).unwrap()
                 .with_attenuation(crate::Attenuation::InverseSquare).unwrap(),

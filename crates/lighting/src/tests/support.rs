@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use crate::{Attenuation, Fresnel, Light, LightKind, Material, SpecularModel};
+use crate::{Attenuation, Fresnel, FresnelMode, Light, LightKind, Material, SpecularModel};
 
 /// xorshift64*: deterministic, dependency-free randomness for exhaustive loops.
 pub struct Rng(u64);
@@ -31,11 +31,16 @@ impl Rng {
 }
 
 pub fn random_material(rng: &mut Rng) -> Material {
+    let mode = if rng.below(4) == 0 {
+        FresnelMode::Replace
+    } else {
+        FresnelMode::Scale
+    };
     Material {
         ka: rng.vec(0.0, 1.0),
         kd: rng.vec(0.0, 1.0),
         ks: rng.vec(0.0, 1.0),
-        shininess: [0.0, 1.0, 8.0, 32.0, 200.0][rng.below(5) as usize],
+        shininess: [0.0, 1.0, 8.0, 32.0, 200.0, f32::INFINITY][rng.below(6) as usize],
         specular: if rng.below(2) == 0 {
             SpecularModel::Phong
         } else {
@@ -50,8 +55,10 @@ pub fn random_material(rng: &mut Rng) -> Material {
                 f0: rng.range(0.0, 1.0),
             },
         },
+        fresnel_mode: FresnelMode::Scale,
         emission: rng.vec(0.0, 0.5),
     }
+    .with_fresnel_mode(mode)
 }
 
 pub fn random_attenuation(rng: &mut Rng) -> Attenuation {

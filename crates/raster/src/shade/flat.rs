@@ -1,5 +1,5 @@
-//! `flat`: the model once per triangle, with the face normal, at the centroid (seeds:
-//! constant-intensity shading, "calculate the intensity for each facet, say, at the centre").
+//! `flat`: the model once per triangle, with the face normal, at the centroid (the lecture
+//! notes' constant-intensity shading, "calculate the intensity for each facet, say, at the centre").
 
 use glam::Vec3;
 use phosphor_lighting::{Vec3x4, shade, shade_x4};

@@ -1,5 +1,5 @@
 //! `gouraud`: the model at the vertices (their averaged normals), intensities interpolated
-//! (seeds: `I4 = (y4 - y2)/(y1 - y2) I1 + (y1 - y4)/(y1 - y2) I2`, then `Ip` along the span).
+//! (Gouraud 1971: `I4 = (y4 - y2)/(y1 - y2) I1 + (y1 - y4)/(y1 - y2) I2`, then `Ip` along the span).
 
 use glam::Vec3;
 use phosphor_lighting::{Vec3x4, shade, shade_x4};

@@ -1,5 +1,5 @@
 //! `phong`: normals and world positions interpolated, the normal renormalized, the full model
-//! per pixel (seeds: normal-vector interpolation shading). With `BUMP`, the normal is
+//! per pixel (Phong 1975: normal-vector interpolation shading). With `BUMP`, the normal is
 //! perturbed by the height field in the tangent frame first.
 
 use glam::{Vec2, Vec3, Vec4};

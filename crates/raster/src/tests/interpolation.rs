@@ -1,4 +1,4 @@
-//! The seeds' scan-line interpolation: the traversal's incremental values equal the closed
+//! Scan-line interpolation (Gouraud 1971): the traversal's incremental values equal the closed
 //! forms `I4 = (y4 - y2)/(y1 - y2) I1 + (y1 - y4)/(y1 - y2) I2`, `I5` likewise on the other edge,
 //! and `Ip = (x5 - xp)/(x5 - x4) I4 + (xp - x4)/(x5 - x4) I5`.
 
@@ -41,7 +41,7 @@ fn vertex_at_depth(x: f64, y: f64, i: f32, depth: f64) -> ScreenVertex {
     }
 }
 
-/// The seeds' closed form at pixel centre (xp, yp), from the two edges the scan line crosses.
+/// Gouraud's closed form at pixel centre (xp, yp), from the two edges the scan line crosses.
 fn closed_form(v: &[(f64, f64, f64); 3], xp: f64, yp: f64) -> f64 {
     let mut hits = Vec::new();
     for (a, b) in [(0, 1), (1, 2), (0, 2)] {
@@ -49,7 +49,7 @@ fn closed_form(v: &[(f64, f64, f64); 3], xp: f64, yp: f64) -> f64 {
         if y1 == y2 || yp < y1.min(y2) || yp > y1.max(y2) {
             continue;
         }
-        // seeds: I4 = (y4 - y2)/(y1 - y2) I1 + (y1 - y4)/(y1 - y2) I2 (same for x).
+        // Gouraud 1971: I4 = (y4 - y2)/(y1 - y2) I1 + (y1 - y4)/(y1 - y2) I2 (same for x).
         let i = (yp - y2) / (y1 - y2) * i1 + (y1 - yp) / (y1 - y2) * i2;
         let x = (yp - y2) / (y1 - y2) * x1 + (y1 - yp) / (y1 - y2) * x2;
         hits.push((x, i));
@@ -63,7 +63,7 @@ fn closed_form(v: &[(f64, f64, f64); 3], xp: f64, yp: f64) -> f64 {
 }
 
 #[test]
-fn scanline_increments_reproduce_the_seeds_closed_form_i4_i5_ip() {
+fn scanline_increments_reproduce_gouraud_closed_form_i4_i5_ip() {
     let (w, h) = (40u32, 30u32);
     for tri in [
         [(5.0, 2.0, 0.2), (35.0, 12.25, 0.9), (12.0, 27.5, 0.5)],

@@ -122,7 +122,7 @@ pub fn icosahedron() -> TestMesh {
     m
 }
 
-/// S1's lights (DESIGN.md) with `f(d) = 1/(1 + d)`.
+/// S1's lights (`docs/conventions.md`) with `f(d) = 1/(1 + d)`.
 pub fn s1_lights() -> LightSet {
     let att = Attenuation::Offset { k: 1.0 };
     let l = |p: Vec3, i: Vec3| Light::point(p, i).unwrap().with_attenuation(att).unwrap();
@@ -151,6 +151,7 @@ pub fn item<'a>(
         effects: Effects::ALL,
         mode,
         bump: None,
+        cull_backfaces: false,
     }
 }
 

@@ -1,26 +1,34 @@
 //! Scene files (TOML) to a [`Scene`]: every field checked, every error naming its field.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::Vec3;
-use phosphor_lighting::{Attenuation, Fresnel, Light, LightKind, Material, SpecularModel};
-use phosphor_mesh::{NormalOptions, NormalSource, Weighting};
+use phosphor_lighting::{
+    Attenuation, Fresnel, FresnelMode, Light, LightKind, Material, SpecularModel,
+};
+use phosphor_mesh::primitives::{PrimitiveError, gigabytes};
+use phosphor_mesh::{MeshFormat, NormalOptions, NormalSource, Weighting};
 use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump};
 
 use super::read::{Fields, choose};
+use crate::budget::{MAX_DISTRIBUTED_SAMPLES, limit_distributed_samples};
 use crate::components::{
-    Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, Primitive,
-    SceneMesh, Shading, ShadingChoice, Transform,
+    Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name,
+    PRIMITIVE_BUDGET_BYTES, Primitive, SceneMesh, Shading, ShadingChoice, Transform,
 };
 use crate::error::SceneError;
-use crate::{RenderSettings, Scene};
+use crate::{CullChoice, RenderSettings, Scene};
 
 /// Reads the files a scene names (meshes, MTL, bump images): the disk, or embedded text.
 pub trait Files {
     /// The text of `path`, or the I/O error.
     fn read_text(&self, path: &Path) -> std::io::Result<String>;
+    /// The bytes of `path` (binary mesh files), or the I/O error.
+    fn read_bytes(&self, path: &Path) -> std::io::Result<Vec<u8>> {
+        self.read_text(path).map(String::into_bytes)
+    }
     /// Whether `path` exists (used for bump images, which the image crate reads itself).
     fn exists(&self, path: &Path) -> bool;
 }
@@ -31,6 +39,9 @@ pub struct Disk;
 impl Files for Disk {
     fn read_text(&self, path: &Path) -> std::io::Result<String> {
         std::fs::read_to_string(path)
+    }
+    fn read_bytes(&self, path: &Path) -> std::io::Result<Vec<u8>> {
+        std::fs::read(path)
     }
     fn exists(&self, path: &Path) -> bool {
         path.exists()
@@ -75,11 +86,22 @@ pub fn parse_scene(
         scene.ambient = a.color("intensity")?.unwrap_or(Vec3::ZERO);
         a.finish(&["intensity"])?;
     }
-    for l in root.tables("lights")? {
+    let mut lights = Vec::new();
+    for (i, l) in root.tables("lights")?.into_iter().enumerate() {
         let name = l
             .str("name")?
-            .map_or_else(|| format!("light {}", scene.light_count()), str::to_owned);
-        let light = light(&l)?;
+            .map_or_else(|| format!("light {i}"), str::to_owned);
+        lights.push((name, light(&l)?));
+    }
+    let mut kinds: Vec<Light> = lights.iter().map(|(_, l)| *l).collect();
+    let (cuts, asked) = limit_distributed_samples(&mut kinds, MAX_DISTRIBUTED_SAMPLES);
+    for cut in &cuts {
+        scene.warnings.push(format!(
+            "warning: {file}: lights[{}].samples: {} cut to {} (the distributed lights ask for {asked} point samples; the scene budget is {MAX_DISTRIBUTED_SAMPLES})",
+            cut.index, cut.before, cut.after
+        ));
+    }
+    for ((name, _), light) in lights.into_iter().zip(kinds) {
         scene.world.spawn((Name(name), light));
     }
     for (name, m) in root.named_tables("materials")? {
@@ -88,8 +110,20 @@ pub fn parse_scene(
     }
     let mut meshes: HashMap<String, Arc<SceneMesh>> = HashMap::new();
     let mut bumps: BTreeMap<String, Arc<BumpMap>> = BTreeMap::new();
-    for (i, o) in root.tables("objects")?.into_iter().enumerate() {
-        object(&mut scene, &o, i, dir, files, &mut meshes, &mut bumps)?;
+    let mut primitive_bytes = 0u64;
+    let objects = root.tables("objects")?;
+    check_primitive_budget(&objects)?;
+    for (i, o) in objects.into_iter().enumerate() {
+        object(
+            &mut scene,
+            &o,
+            i,
+            dir,
+            files,
+            &mut meshes,
+            &mut bumps,
+            &mut primitive_bytes,
+        )?;
     }
     root.finish(TOP)?;
     Ok(scene)
@@ -141,8 +175,17 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
     if let Some(p) = r.bool("perspective_correct")? {
         s.perspective_correct = p;
     }
-    if let Some(c) = r.bool("cull_backfaces")? {
-        s.cull_backfaces = c;
+    match r.get("cull_backfaces") {
+        None => {}
+        Some(toml::Value::Boolean(true)) => s.cull_backfaces = CullChoice::Always,
+        Some(toml::Value::Boolean(false)) => s.cull_backfaces = CullChoice::Never,
+        Some(toml::Value::String(v)) if v == "auto" => s.cull_backfaces = CullChoice::Auto,
+        Some(v) => {
+            return Err(r.error(
+                "cull_backfaces",
+                format!("expected true, false or \"auto\", got {v}"),
+            ));
+        }
     }
     r.finish(&[
         "width",
@@ -336,7 +379,8 @@ fn material(m: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<MaterialDef
         ka: m.color("ka")?.unwrap_or(base.ka),
         kd: m.color("kd")?.unwrap_or(base.kd),
         ks: m.color("ks")?.unwrap_or(base.ks),
-        shininess: m.f32("shininess")?.unwrap_or(base.shininess),
+        // `inf` is the lecture notes' perfect reflector.
+        shininess: m.f32_or_inf("shininess")?.unwrap_or(base.shininess),
         emission: m.color("emission")?.unwrap_or(Vec3::ZERO),
         ..base
     };
@@ -374,8 +418,24 @@ fn material(m: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<MaterialDef
                 ));
             }
         };
-        f.finish(&["model", "w", "f0"])?;
+        if let Some(mode) = f.str("mode")? {
+            mat.fresnel_mode = choose(
+                &f,
+                "mode",
+                mode,
+                &[
+                    ("scale", FresnelMode::Scale),
+                    ("replace", FresnelMode::Replace),
+                ],
+            )?;
+        }
+        f.finish(&["model", "w", "f0", "mode"])?;
         mat.fresnel.validate().map_err(|e| lighting_error(&f, &e))?;
+        // Under "replace" W(theta) is the whole specular coefficient: ks is 1 unless the file
+        // says otherwise, and then validate() names the conflict.
+        if mat.fresnel_mode == FresnelMode::Replace && m.get("ks").is_none() {
+            mat.ks = Vec3::ONE;
+        }
     }
     mat.validate().map_err(|e| lighting_error(m, &e))?;
     let bump = match m.table("bump")? {
@@ -585,7 +645,7 @@ fn transform(t: Option<Fields<'_>>) -> Result<Transform, SceneError> {
 
 #[allow(
     clippy::too_many_arguments,
-    reason = "one object reads the scene, its folder, its files and two caches"
+    reason = "one object reads the scene, its folder, its files, two caches and the memory taken"
 )]
 fn object(
     scene: &mut Scene,
@@ -595,6 +655,7 @@ fn object(
     files: &dyn Files,
     meshes: &mut HashMap<String, Arc<SceneMesh>>,
     bumps: &mut BTreeMap<String, Arc<BumpMap>>,
+    primitive_bytes: &mut u64,
 ) -> Result<(), SceneError> {
     let name = o
         .str("name")?
@@ -617,7 +678,15 @@ fn object(
     let mesh = match meshes.get(&key) {
         Some(m) => m.clone(),
         None => {
-            let m = Arc::new(build_mesh(scene, o, source, normals, normalize, files)?);
+            let m = Arc::new(build_mesh(
+                scene,
+                o,
+                source,
+                normals,
+                normalize,
+                files,
+                primitive_bytes,
+            )?);
             meshes.insert(key, m.clone());
             m
         }
@@ -707,6 +776,48 @@ fn object(
     Ok(())
 }
 
+/// Adds up the footprints of the scene's distinct primitives in file order and refuses the
+/// first object that takes the total over [`PRIMITIVE_BUDGET_BYTES`], before any mesh is
+/// built (building the earlier ones could take seconds and gigabytes first). A primitive
+/// that does not parse is left for [`object`] to report in its turn.
+fn check_primitive_budget(objects: &[Fields<'_>]) -> Result<(), SceneError> {
+    let mut seen = HashSet::new();
+    let mut used = 0u64;
+    for o in objects {
+        let Ok(Some(p)) = o.table("primitive") else {
+            continue;
+        };
+        let Ok(prim) = primitive(&p) else {
+            continue;
+        };
+        if !seen.insert(format!("{prim:?}")) {
+            continue;
+        }
+        let f = prim.footprint();
+        f.check(PRIMITIVE_BUDGET_BYTES.saturating_sub(used))
+            .map_err(|e| over_budget(o, &e, used))?;
+        used = used.saturating_add(f.bytes());
+    }
+    Ok(())
+}
+
+/// The error for a primitive refused by the budget, or whose memory the system refused:
+/// `objects[i].primitive.COUNT: the mesh needs N GB ...`, with what earlier objects hold.
+fn over_budget(o: &Fields<'_>, e: &PrimitiveError, used: u64) -> SceneError {
+    let mut what = e.what();
+    if used > 0 {
+        what.push_str(&format!(
+            " (all primitives of a scene share {} GB; earlier objects take {} GB)",
+            gigabytes(PRIMITIVE_BUDGET_BYTES),
+            gigabytes(used)
+        ));
+    }
+    o.error(&format!("primitive.{}", e.field()), what)
+}
+
+/// Builds an object's mesh. A primitive is checked against what is left of
+/// [`PRIMITIVE_BUDGET_BYTES`] after the scene's earlier primitives (`primitive_bytes`, which
+/// grows by its footprint) before anything is allocated.
 fn build_mesh(
     scene: &mut Scene,
     o: &Fields<'_>,
@@ -714,9 +825,37 @@ fn build_mesh(
     normals: NormalOptions,
     normalize: bool,
     files: &dyn Files,
+    primitive_bytes: &mut u64,
 ) -> Result<SceneMesh, SceneError> {
     let mut mesh = match &source {
-        MeshSource::Primitive(p) => p.build(),
+        MeshSource::Primitive(p) => {
+            let left = PRIMITIVE_BUDGET_BYTES.saturating_sub(*primitive_bytes);
+            let mesh = p
+                .try_build(left)
+                .map_err(|e| over_budget(o, &e, *primitive_bytes))?;
+            *primitive_bytes = primitive_bytes.saturating_add(p.footprint().bytes());
+            mesh
+        }
+        MeshSource::File { resolved, .. } if MeshFormat::from_path(resolved) != MeshFormat::Obj => {
+            let shown = resolved.display().to_string();
+            let bytes = files
+                .read_bytes(resolved)
+                .map_err(|e| o.error("mesh", format!("{shown}: cannot read: {e}")))?;
+            let dir = resolved.parent().unwrap_or(Path::new(""));
+            let read_relative = |rel: &str| files.read_bytes(&dir.join(rel));
+            let format = MeshFormat::from_path(resolved);
+            let (mesh, warnings) =
+                phosphor_mesh::parse_mesh_bytes(&bytes, &shown, format, &read_relative, &normals)
+                    .map_err(|source| SceneError::Mesh {
+                    file: o.file().to_owned(),
+                    field: o.path_of("mesh"),
+                    source,
+                })?;
+            scene
+                .warnings
+                .extend(warnings.into_iter().map(|w| format!("warning: {w}")));
+            mesh
+        }
         MeshSource::File { written, resolved } => {
             let shown = resolved.display().to_string();
             let text = files

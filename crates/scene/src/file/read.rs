@@ -106,6 +106,25 @@ impl<'a> Fields<'a> {
         Ok(Some(f))
     }
 
+    /// A number that may also be `inf` (TOML's positive infinity, as written, not a finite
+    /// number too large for f32).
+    pub(crate) fn f32_or_inf(&self, key: &'a str) -> Result<Option<f32>, SceneError> {
+        match self.table.get(key) {
+            Some(Value::Float(f)) if *f == f64::INFINITY => {
+                self.get(key);
+                Ok(Some(f32::INFINITY))
+            }
+            Some(Value::Float(f)) if f.is_nan() || *f == f64::NEG_INFINITY => {
+                self.get(key);
+                Err(self.error(
+                    key,
+                    format!("must be a number >= 0 or inf, got {}", show(*f)),
+                ))
+            }
+            _ => self.f32(key),
+        }
+    }
+
     /// A required finite number.
     pub(crate) fn req_f32(&self, key: &'a str) -> Result<f32, SceneError> {
         self.f32(key)?.ok_or_else(|| self.error(key, "missing"))

@@ -13,7 +13,7 @@ use crate::components::{
     BumpSource, MaterialDef, MaterialName, MeshRef, MeshSource, Name, Primitive, Shading, Transform,
 };
 use crate::error::SceneError;
-use crate::{RenderSettings, Scene};
+use crate::{CullChoice, RenderSettings, Scene};
 
 fn v3(v: Vec3) -> Value {
     Value::Array(
@@ -49,7 +49,14 @@ fn render_table(r: &RenderSettings) -> Table {
         "perspective_correct".into(),
         Value::Boolean(r.perspective_correct),
     );
-    t.insert("cull_backfaces".into(), Value::Boolean(r.cull_backfaces));
+    t.insert(
+        "cull_backfaces".into(),
+        match r.cull_backfaces {
+            CullChoice::Auto => s("auto"),
+            CullChoice::Always => Value::Boolean(true),
+            CullChoice::Never => Value::Boolean(false),
+        },
+    );
     t
 }
 
@@ -169,6 +176,7 @@ fn material_table(def: &MaterialDef) -> Table {
             fr.insert("f0".into(), f(f0));
         }
     }
+    fr.insert("mode".into(), s(m.fresnel_mode.name()));
     t.insert("fresnel".into(), Value::Table(fr));
     t.insert("emission".into(), v3(m.emission));
     if let Some((src, scale)) = &def.bump {

@@ -1,0 +1,530 @@
+//! Stanford PLY, ASCII or binary (little or big endian), through `ply-rs-bw`.
+//!
+//! The crate parses the header and each element; this module drives it one element at a time,
+//! so an error names the line (ASCII) or the element and its number (binary). Read: the
+//! `vertex` element's `x y z` (any numeric type) and, when all three are present, `nx ny nz`;
+//! the `face` element's `vertex_indices` (or `vertex_index`) list of any integer type. Other
+//! properties and elements (colours, confidence, edges) are read past. Faces with more than
+//! three corners are triangulated by ear clipping as OBJ polygons are.
+
+use glam::Vec3;
+use ply_rs_bw::parser::{ParseError, Parser, Reader};
+use ply_rs_bw::ply::{
+    BeginList, ElementDef, Encoding, Header, Property, PropertyAccess, PropertyAccessResult,
+    PropertyType, ScalarType,
+};
+
+use super::{Welder, element_error, finish, one_line};
+use crate::build::TriangleSoup;
+use crate::error::MeshError;
+use crate::mesh::Mesh;
+use crate::normals::NormalOptions;
+use crate::triangulate::triangulate;
+
+/// Names the face list may have (both are in use: Stanford's scans use `vertex_indices`).
+const FACE_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
+
+/// One `vertex` element: position and normal, as read (f64 so doubles lose nothing early).
+#[derive(Default)]
+struct PlyVertex {
+    position: [f64; 3],
+    normal: [f64; 3],
+}
+
+impl PlyVertex {
+    fn set(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        let slot = match name {
+            "x" => &mut self.position[0],
+            "y" => &mut self.position[1],
+            "z" => &mut self.position[2],
+            "nx" => &mut self.normal[0],
+            "ny" => &mut self.normal[1],
+            "nz" => &mut self.normal[2],
+            _ => return PropertyAccessResult::Ignored,
+        };
+        *slot = value;
+        PropertyAccessResult::Set
+    }
+}
+
+/// The value of a numeric scalar property.
+fn scalar(property: &Property) -> Option<f64> {
+    Some(match *property {
+        Property::Char(v) => f64::from(v),
+        Property::UChar(v) => f64::from(v),
+        Property::Short(v) => f64::from(v),
+        Property::UShort(v) => f64::from(v),
+        Property::Int(v) => f64::from(v),
+        Property::UInt(v) => f64::from(v),
+        Property::Float(v) => f64::from(v),
+        Property::Double(v) => v,
+        _ => return None,
+    })
+}
+
+impl PropertyAccess for PlyVertex {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        match scalar(&property) {
+            Some(v) => self.set(name, v),
+            None => PropertyAccessResult::Ignored,
+        }
+    }
+    fn set_float(&mut self, name: &str, value: f32) -> PropertyAccessResult {
+        self.set(name, f64::from(value))
+    }
+    fn set_double(&mut self, name: &str, value: f64) -> PropertyAccessResult {
+        self.set(name, value)
+    }
+}
+
+/// One `face` element: its corner indices, as written (the common `int` and `uint` lists are
+/// filled in place, the narrower integer types go through `set_property`).
+#[derive(Default)]
+struct PlyFace {
+    signed: Vec<i32>,
+    unsigned: Vec<u32>,
+}
+
+impl PlyFace {
+    fn corners(&self) -> impl Iterator<Item = i64> + '_ {
+        self.signed
+            .iter()
+            .map(|&i| i64::from(i))
+            .chain(self.unsigned.iter().map(|&i| i64::from(i)))
+    }
+}
+
+impl PropertyAccess for PlyFace {
+    fn new() -> Self {
+        Self::default()
+    }
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        if !FACE_LISTS.contains(&name) {
+            return PropertyAccessResult::Ignored;
+        }
+        self.signed = match property {
+            Property::ListChar(v) => v.into_iter().map(i32::from).collect(),
+            Property::ListUChar(v) => v.into_iter().map(i32::from).collect(),
+            Property::ListShort(v) => v.into_iter().map(i32::from).collect(),
+            Property::ListUShort(v) => v.into_iter().map(i32::from).collect(),
+            Property::ListInt(v) => v,
+            Property::ListUInt(v) => {
+                self.unsigned = v;
+                return PropertyAccessResult::Set;
+            }
+            _ => return PropertyAccessResult::UnsupportedType,
+        };
+        PropertyAccessResult::Set
+    }
+    fn begin_list_int(&mut self, name: &str, _len: usize) -> BeginList<'_, i32> {
+        if FACE_LISTS.contains(&name) {
+            BeginList::Fill(&mut self.signed)
+        } else {
+            BeginList::UseSetter
+        }
+    }
+    fn begin_list_uint(&mut self, name: &str, _len: usize) -> BeginList<'_, u32> {
+        if FACE_LISTS.contains(&name) {
+            BeginList::Fill(&mut self.unsigned)
+        } else {
+            BeginList::UseSetter
+        }
+    }
+}
+
+/// Any other element: read past.
+struct Skip;
+
+impl PropertyAccess for Skip {
+    fn new() -> Self {
+        Skip
+    }
+}
+
+/// What the header says this reader needs.
+struct Layout {
+    vertices: usize,
+    has_normals: bool,
+}
+
+/// Checks the `vertex` and `face` elements' properties before any data is read, so a file
+/// this reader cannot use is named for its header, not for a confusing payload error.
+fn layout(header: &Header, file: &str) -> Result<Layout, MeshError> {
+    let header_error = |what: String| element_error(file, "header", what);
+    let vertex = header
+        .elements
+        .get("vertex")
+        .ok_or_else(|| header_error("no `element vertex`".to_owned()))?;
+    let scalar_named = |name: &str| {
+        vertex
+            .properties
+            .get(name)
+            .map(|p| matches!(p.data_type, PropertyType::Scalar(_)))
+    };
+    for axis in ["x", "y", "z"] {
+        match scalar_named(axis) {
+            Some(true) => {}
+            Some(false) => {
+                return Err(header_error(format!(
+                    "vertex property `{axis}` is a list, expected a number"
+                )));
+            }
+            None => {
+                return Err(header_error(format!("vertex has no property `{axis}`")));
+            }
+        }
+    }
+    let has_normals = ["nx", "ny", "nz"]
+        .iter()
+        .all(|n| scalar_named(n) == Some(true));
+    if let Some(face) = header.elements.get("face") {
+        let list = FACE_LISTS
+            .iter()
+            .find_map(|n| face.properties.get(*n))
+            .ok_or_else(|| {
+                header_error("face has no `vertex_indices` (or `vertex_index`) list".to_owned())
+            })?;
+        match list.data_type {
+            PropertyType::List(_, ScalarType::Float | ScalarType::Double) => {
+                return Err(header_error(format!(
+                    "face property `{}` lists floating-point numbers, expected integers",
+                    list.name
+                )));
+            }
+            PropertyType::Scalar(_) => {
+                return Err(header_error(format!(
+                    "face property `{}` is a number, expected a list",
+                    list.name
+                )));
+            }
+            PropertyType::List(..) => {}
+        }
+    }
+    Ok(Layout {
+        vertices: vertex.count,
+        has_normals,
+    })
+}
+
+/// Where the reader is, for messages: the element, and its line in an ASCII file.
+struct Place {
+    element: String,
+    line: Option<usize>,
+}
+
+impl Place {
+    fn error(&self, file: &str, what: impl Into<String>) -> MeshError {
+        match self.line {
+            Some(line) => MeshError::Parse {
+                file: file.to_owned(),
+                line,
+                what: format!("{}: {}", self.element, what.into()),
+            },
+            None => element_error(file, self.element.clone(), what),
+        }
+    }
+}
+
+/// The crate's message without its own `Line N: ` prefix (this module names the place).
+fn message(e: &ParseError) -> String {
+    let text = e.to_string();
+    let text = match e.line() {
+        Some(line) => text
+            .strip_prefix(&format!("Line {line}: "))
+            .map(str::to_owned)
+            .unwrap_or_else(|| text.clone()),
+        None => text,
+    };
+    one_line(&text)
+}
+
+/// At most 40 characters of `text`, for messages.
+fn clip(text: &str) -> String {
+    match text.char_indices().nth(40) {
+        Some((end, _)) => format!("{}...", &text[..end]),
+        None => text.to_owned(),
+    }
+}
+
+/// Reads elements of one definition, one at a time, from the payload that `rest` holds.
+struct Payload<'a> {
+    rest: &'a [u8],
+    encoding: Encoding,
+    /// 1-based line of the next ASCII line.
+    line: usize,
+}
+
+impl Payload<'_> {
+    /// Element `index` of `def`, and where it was.
+    fn read<E: PropertyAccess>(
+        &mut self,
+        parser: &Parser<E>,
+        def: &ElementDef,
+        index: usize,
+        file: &str,
+    ) -> Result<(E, Place), MeshError> {
+        let element = format!("{} {} of {}", def.name, index + 1, def.count);
+        match self.encoding {
+            Encoding::Ascii => {
+                // Blank lines between elements are tolerated (some writers end with one).
+                loop {
+                    let Some(end) = self.rest.iter().position(|&b| b == b'\n') else {
+                        if self.rest.iter().all(u8::is_ascii_whitespace) {
+                            let place = Place {
+                                element,
+                                line: Some(self.line),
+                            };
+                            return Err(place.error(file, "the file ends before it (truncated)"));
+                        }
+                        break;
+                    };
+                    if self.rest[..end].iter().all(u8::is_ascii_whitespace) {
+                        self.rest = &self.rest[end + 1..];
+                        self.line += 1;
+                    } else {
+                        break;
+                    }
+                }
+                let end = self
+                    .rest
+                    .iter()
+                    .position(|&b| b == b'\n')
+                    .map_or(self.rest.len(), |e| e + 1);
+                let (raw, rest) = self.rest.split_at(end);
+                self.rest = rest;
+                let place = Place {
+                    element,
+                    line: Some(self.line),
+                };
+                self.line += 1;
+                let text =
+                    std::str::from_utf8(raw).map_err(|_| place.error(file, "not valid UTF-8"))?;
+                let value = parser.read_ascii_element(text, def).map_err(|e| {
+                    let why = message(&e);
+                    // The crate quotes the line inside a nested message; keep its last reason.
+                    let why = why.rsplit("Error: ").next().unwrap_or(&why).trim();
+                    place.error(file, format!("cannot read '{}': {why}", clip(text.trim())))
+                })?;
+                Ok((value, place))
+            }
+            Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
+                let place = Place {
+                    element,
+                    line: None,
+                };
+                let value = if self.encoding == Encoding::BinaryLittleEndian {
+                    parser.read_little_endian_element(&mut self.rest, def)
+                } else {
+                    parser.read_big_endian_element(&mut self.rest, def)
+                };
+                let value = value.map_err(|e| {
+                    if e.kind() == std::io::ErrorKind::UnexpectedEof {
+                        place.error(file, "the file ends inside it (truncated)")
+                    } else {
+                        place.error(file, message(&e))
+                    }
+                })?;
+                Ok((value, place))
+            }
+        }
+    }
+}
+
+/// Parses a PLY file's bytes; `file` names it in messages.
+pub(super) fn parse(
+    bytes: &[u8],
+    file: &str,
+    opts: &NormalOptions,
+) -> Result<(Mesh, Vec<String>), MeshError> {
+    if bytes.is_empty() {
+        return Err(MeshError::NoFaces {
+            file: file.to_owned(),
+        });
+    }
+    let mut reader = Reader::new(bytes);
+    let header = Parser::<Skip>::new()
+        .read_header(&mut reader)
+        .map_err(|e| match e.line() {
+            Some(line) => {
+                // The crate's message goes on with the parser's internal state; its first
+                // sentence and the offending line say it all.
+                let why = message(&e);
+                let why = why.split("; ").next().unwrap_or(&why);
+                let text = bytes
+                    .split(|&b| b == b'\n')
+                    .nth(line.saturating_sub(1))
+                    .map(String::from_utf8_lossy)
+                    .unwrap_or_default();
+                MeshError::Parse {
+                    file: file.to_owned(),
+                    line,
+                    what: format!(
+                        "header: {}: '{}'",
+                        why.trim_end_matches('.'),
+                        clip(text.trim())
+                    ),
+                }
+            }
+            None => element_error(file, "header", message(&e)),
+        })?;
+    let layout = layout(&header, file)?;
+    let rest: &[u8] = reader.get_ref();
+    let header_len = bytes.len() - rest.len();
+    let mut payload = Payload {
+        rest,
+        encoding: header.encoding,
+        line: bytes[..header_len].iter().filter(|&&b| b == b'\n').count() + 1,
+    };
+
+    let mut positions: Vec<Vec3> = Vec::with_capacity(layout.vertices.min(1 << 20));
+    let mut normals: Vec<Vec3> = Vec::new();
+    let mut faces: Vec<Vec<u32>> = Vec::new();
+    let mut short_faces = 0usize;
+    let (vertex_parser, face_parser, skip_parser) = (
+        Parser::<PlyVertex>::new(),
+        Parser::<PlyFace>::new(),
+        Parser::<Skip>::new(),
+    );
+    for (name, def) in &header.elements {
+        for i in 0..def.count {
+            match name.as_str() {
+                "vertex" => {
+                    let (v, place) = payload.read(&vertex_parser, def, i, file)?;
+                    let p = v.position.map(|c| c as f32);
+                    if !p.iter().all(|c| c.is_finite()) {
+                        return Err(place.error(file, "NaN or infinite coordinate"));
+                    }
+                    positions.push(Vec3::from_array(p));
+                    if layout.has_normals {
+                        let n = v.normal.map(|c| c as f32);
+                        if !n.iter().all(|c| c.is_finite()) {
+                            return Err(place.error(file, "NaN or infinite normal"));
+                        }
+                        normals.push(Vec3::from_array(n));
+                    }
+                }
+                "face" => {
+                    let (f, place) = payload.read(&face_parser, def, i, file)?;
+                    let mut corners = Vec::with_capacity(f.signed.len() + f.unsigned.len());
+                    for c in f.corners() {
+                        match u32::try_from(c) {
+                            Ok(c) if (c as usize) < layout.vertices => corners.push(c),
+                            _ => {
+                                return Err(place.error(
+                                    file,
+                                    format!(
+                                        "vertex index {c} out of range ({} vertices, \
+                                         numbered from 0)",
+                                        layout.vertices
+                                    ),
+                                ));
+                            }
+                        }
+                    }
+                    if corners.len() < 3 {
+                        short_faces += 1;
+                    } else {
+                        faces.push(corners);
+                    }
+                }
+                _ => {
+                    payload.read(&skip_parser, def, i, file)?;
+                }
+            }
+        }
+    }
+
+    let mut warnings = Vec::new();
+    if short_faces > 0 {
+        warnings.push(format!(
+            "{file}: {short_faces} faces with fewer than 3 vertices skipped"
+        ));
+    }
+    let mut soup = TriangleSoup::default();
+    let mut welder = Welder::default();
+    let ids: Vec<u32> = positions.iter().map(|&p| welder.id(&mut soup, p)).collect();
+    let mut normal_ix = Vec::new();
+    for (face, corners) in faces.iter().enumerate() {
+        let points: Vec<Vec3> = corners.iter().map(|&c| positions[c as usize]).collect();
+        for t in triangulate(&points) {
+            let vertex = t.map(|k| corners[k]);
+            soup.triangles.push(vertex.map(|v| ids[v as usize]));
+            normal_ix.push(vertex);
+            soup.polygon_ids.push(face as u32);
+            soup.material_ids.push(0);
+        }
+    }
+    if layout.has_normals {
+        soup.normals = Some((normals, normal_ix));
+    }
+    let mesh = finish(soup, file, opts)?;
+    Ok((mesh, warnings))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn error(text: &str) -> String {
+        match parse(text.as_bytes(), "t.ply", &NormalOptions::default()) {
+            Ok(_) => panic!("expected an error for {text:?}"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    const HEADER: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n\
+                          property float y\nproperty float z\nelement face 1\n\
+                          property list uchar int vertex_indices\nend_header\n";
+
+    #[test]
+    fn ascii_triangle_loads() {
+        let text = format!("{HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+        let (m, w) = parse(text.as_bytes(), "t.ply", &NormalOptions::default()).expect("loads");
+        assert_eq!(m.indices.len(), 1);
+        assert!(w.is_empty());
+        assert!(m.is_consistent());
+    }
+
+    #[test]
+    fn ascii_errors_name_the_line() {
+        let e = error(&format!("{HEADER}0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n"));
+        assert!(
+            e.starts_with("t.ply:11: vertex 2 of 3: cannot read '1 x 0'"),
+            "{e}"
+        );
+        assert!(!e.contains('\n'), "{e}");
+        let e = error(&format!("{HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"));
+        assert!(
+            e.starts_with("t.ply:13: face 1 of 1: vertex index 3 out of range"),
+            "{e}"
+        );
+        let e = error(&format!("{HEADER}0 0 0\n1 1e39 0\n0 1 0\n3 0 1 2\n"));
+        assert!(
+            e.starts_with("t.ply:11: vertex 2 of 3: NaN or infinite"),
+            "{e}"
+        );
+        let e = error(&format!("{HEADER}0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"));
+        assert!(e.starts_with("t.ply:11: vertex 2 of 3: cannot read"), "{e}");
+        let e = error(&format!("{HEADER}0 0 0\n1 0 0\n"));
+        assert!(
+            e.starts_with("t.ply:12: vertex 3 of 3: the file ends"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn header_problems_are_named() {
+        let e = error("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n");
+        assert!(
+            e.starts_with("t.ply: header: vertex has no property `y`"),
+            "{e}"
+        );
+        let e = error("plx\n");
+        assert!(e.starts_with("t.ply"), "{e}");
+        let e = error(&HEADER.replace("list uchar int", "list uchar float"));
+        assert!(e.contains("floating-point"), "{e}");
+    }
+}

@@ -1,0 +1,92 @@
+//! Temporary files removed on every way out: an error (the guard's drop), and an interrupt or
+//! termination (SIGINT, SIGTERM, SIGHUP), after which the process still ends by that signal.
+//!
+//! A file-size limit (SIGXFSZ) is caught too, so that the write that crossed it fails with
+//! "File too large" and is reported like a full disk, instead of killing the process with the
+//! temporary file left behind.
+
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use tempfile::TempPath;
+
+/// Temporary files being written, removed by the signal thread if a signal comes first.
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn pending() -> MutexGuard<'static, Vec<PathBuf>> {
+    PENDING.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// A temporary file that is removed unless it is persisted.
+pub(crate) struct Pending {
+    temp: Option<TempPath>,
+}
+
+impl Pending {
+    /// Starts watching `temp` (and the signals, the first time).
+    pub(crate) fn register(temp: TempPath) -> Pending {
+        install();
+        pending().push(temp.to_path_buf());
+        Pending { temp: Some(temp) }
+    }
+
+    /// Renames the file to `target`. The list stays locked through the rename, so a signal
+    /// either removes the temporary file before it, or finds it gone after.
+    pub(crate) fn persist(mut self, target: &Path) -> std::io::Result<()> {
+        let Some(temp) = self.temp.take() else {
+            return Err(std::io::Error::other("temporary file already gone"));
+        };
+        let mut list = pending();
+        let path = temp.to_path_buf();
+        list.retain(|p| *p != path);
+        // On failure the returned TempPath is dropped, which removes the file.
+        temp.persist(target).map_err(|e| e.error)
+    }
+}
+
+impl Drop for Pending {
+    fn drop(&mut self) {
+        if let Some(temp) = self.temp.take() {
+            let mut list = pending();
+            let path = temp.to_path_buf();
+            list.retain(|p| *p != path);
+            drop(temp); // removes the file
+        }
+    }
+}
+
+/// Starts the signal thread once per process. If the handlers cannot be installed the
+/// process keeps the default behaviour (the error paths still clean up).
+#[cfg(unix)]
+fn install() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let Ok(mut signals) =
+            signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP, SIGXFSZ])
+        else {
+            return;
+        };
+        let spawned = std::thread::Builder::new()
+            .name("phosphor-output-signals".to_owned())
+            .spawn(move || {
+                for signal in signals.forever() {
+                    if signal == SIGXFSZ {
+                        continue; // the write that crossed the limit fails with EFBIG instead
+                    }
+                    // Held until the process ends: no rename can start after the removal.
+                    let list = pending();
+                    for path in list.iter() {
+                        let _ = std::fs::remove_file(path);
+                    }
+                    // Ends the process as the signal would have (exit status 128 + signal).
+                    let _ = signal_hook::low_level::emulate_default_handler(signal);
+                    std::process::exit(128 + signal);
+                }
+            });
+        drop(spawned);
+    });
+}
+
+#[cfg(not(unix))]
+fn install() {}
