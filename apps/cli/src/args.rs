@@ -7,6 +7,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use phosphor_raster::Antialias;
 
 use crate::frames::{FrameRange, parse_frame_range};
 use crate::view::{CameraArgs, NormalArgs};
@@ -69,6 +70,16 @@ pub struct SceneSource {
     /// only where that cannot change a pixel (closed solids seen from outside).
     #[arg(long, value_enum, value_name = "auto|always|never")]
     pub cull: Option<CullArg>,
+    /// Anti-aliasing, overriding the scene's `render.aa`: `ssaa4` and `ssaa16` draw 4 or 16
+    /// samples per pixel (a 2x2 or 4x4 grid, box-filtered), at about that many times the cost.
+    #[arg(long, value_name = "off|ssaa4|ssaa16", value_parser = parse_antialias)]
+    pub aa: Option<Antialias>,
+}
+
+/// An anti-aliasing name.
+fn parse_antialias(text: &str) -> Result<Antialias, String> {
+    text.parse()
+        .map_err(|e: phosphor_raster::UnknownAntialias| e.to_string())
 }
 
 /// Back-face culling on the command line.

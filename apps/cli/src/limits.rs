@@ -2,6 +2,7 @@
 
 use phosphor_output::memory;
 use phosphor_output::term::warn;
+use phosphor_raster::Antialias;
 
 use crate::CliError;
 
@@ -43,6 +44,17 @@ fn capped_threads(requested: usize, cores: usize) -> (usize, Option<String>) {
 
 /// Bytes per pixel of the framebuffer: linear RGB f32 and an f32 depth.
 pub const FRAMEBUFFER_BYTES_PER_PIXEL: u64 = 16;
+
+/// Bytes per pixel of the sample image an anti-aliased frame adds (RGB f32 and depth per
+/// sample; none without anti-aliasing).
+#[must_use]
+pub fn sample_bytes_per_pixel(aa: Antialias) -> u64 {
+    if aa == Antialias::Off {
+        0
+    } else {
+        FRAMEBUFFER_BYTES_PER_PIXEL * u64::from(aa.samples())
+    }
+}
 
 /// Refuses an image that would not fit in the memory left, before it is allocated
 /// (see [`memory::check_image`]); `field` names what set the size.

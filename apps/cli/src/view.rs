@@ -188,6 +188,21 @@ pub fn prepare(
     normal_options(&source.normals, source.mesh.is_some())?;
     let mut scene = load_source(source)?;
     let (width, height) = frame_size(&scene, size);
+    let aa = scene.settings.antialias;
+    if !aa.fits(width, height) {
+        let k = u64::from(aa.factor());
+        let what = format!(
+            "{aa} at {width}x{height} draws {}x{} samples, over the largest side {}",
+            u64::from(width) * k,
+            u64::from(height) * k,
+            phosphor_raster::framebuffer::MAX_SIDE
+        );
+        return Err(match (source.aa, &source.scene) {
+            (Some(_), _) => CliError::Usage(format!("--aa: {what}")),
+            (None, Some(path)) => CliError::Input(format!("{}: render.aa: {what}", path.display())),
+            (None, None) => CliError::Input(format!("render.aa: {what}")),
+        });
+    }
     let bounds = scene.bounding_sphere();
     if source.scene.is_none() && source.mesh.is_some() {
         let (centre, radius) = bounds.unwrap_or((Vec3::ZERO, 1.0));

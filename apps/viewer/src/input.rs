@@ -31,6 +31,7 @@ phosphor-viewer keys:
   F1..F8 (or shift+1..8)  toggle light 1..8 (in scene-file order)
   B                    toggle bump mapping
   P                    toggle perspective-correct interpolation
+  A                    anti-aliasing: off, ssaa4, ssaa16 (4 or 16 samples per pixel)
   R                    reset the view
   C                    print the camera as a scene file's [camera] block (paste it into a scene)
   S                    save a screenshot (PNG) beside the scene file (current folder for --mesh)
@@ -73,6 +74,8 @@ pub enum Action {
     ToggleBump,
     /// Toggle perspective-correct interpolation.
     TogglePerspective,
+    /// Switch anti-aliasing to the next choice (off, ssaa4, ssaa16).
+    CycleAntialias,
     /// Back to the scene's camera.
     ResetView,
     /// Print the current camera as a scene file's `[camera]` block.
@@ -122,6 +125,7 @@ pub fn key_action(code: KeyCode, shift: bool) -> Option<Action> {
         KeyCode::F8 => Some(Action::ToggleLight(7)),
         KeyCode::KeyB => Some(Action::ToggleBump),
         KeyCode::KeyP => Some(Action::TogglePerspective),
+        KeyCode::KeyA => Some(Action::CycleAntialias),
         KeyCode::KeyR => Some(Action::ResetView),
         KeyCode::KeyC => Some(Action::PrintCamera),
         KeyCode::KeyS => Some(Action::Screenshot),
@@ -375,6 +379,10 @@ mod tests {
         assert_eq!(key_action(KeyCode::F8, false), Some(Action::ToggleLight(7)));
         assert_eq!(key_action(KeyCode::Digit9, false), None);
         assert_eq!(key_action(KeyCode::KeyB, false), Some(Action::ToggleBump));
+        assert_eq!(
+            key_action(KeyCode::KeyA, false),
+            Some(Action::CycleAntialias)
+        );
     }
 
     #[test]

@@ -25,7 +25,7 @@ use phosphor_lighting::Light;
 use phosphor_output::image::{Transfer, write_png};
 use phosphor_output::{memory, term};
 use phosphor_raster::encode::Encoder;
-use phosphor_raster::{Camera, Encoding, Framebuffer, ShadingMode};
+use phosphor_raster::{Antialias, Camera, Encoding, Framebuffer, ShadingMode};
 use phosphor_scene::view::camera_toml;
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
 
@@ -59,6 +59,10 @@ struct Args {
     /// Start with this shading for every object (`auto`: the scene's own choice per object).
     #[arg(long, value_name = "MODE", value_parser = parse_shading)]
     shading: Option<ShadingChoice>,
+    /// Anti-aliasing (overrides the scene file's `aa`): `ssaa4` and `ssaa16` draw 4 or 16
+    /// samples per pixel, at about that many times the cost. Key A switches it.
+    #[arg(long, value_name = "off|ssaa4|ssaa16", value_parser = parse_antialias)]
+    aa: Option<Antialias>,
     /// Draw this many frames, then exit.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     frames: Option<u32>,
@@ -74,6 +78,12 @@ struct Args {
     /// Let --screenshot replace a read-only file, or write into a device or FIFO.
     #[arg(long)]
     force: bool,
+}
+
+/// An anti-aliasing name.
+fn parse_antialias(text: &str) -> Result<Antialias, String> {
+    text.parse()
+        .map_err(|e: phosphor_raster::UnknownAntialias| e.to_string())
 }
 
 /// A screenshot path: it must end in `.png`, the only format the viewer writes.
@@ -93,6 +103,19 @@ fn parse_png_path(text: &str) -> Result<PathBuf, String> {
 /// Bytes per pixel of a window's frame: the framebuffer (RGB f32 and depth) and the 32-bit
 /// pixels presented.
 const WINDOW_BYTES_PER_PIXEL: u64 = 16 + 4;
+
+/// Bytes per sample of an anti-aliased frame's sample image (RGB f32 and depth).
+const SAMPLE_BYTES: u64 = 16;
+
+/// Bytes per pixel of a window's frame drawn with `aa`.
+fn bytes_per_pixel(aa: Antialias) -> u64 {
+    let samples = if aa == Antialias::Off {
+        0
+    } else {
+        u64::from(aa.samples())
+    };
+    WINDOW_BYTES_PER_PIXEL + SAMPLE_BYTES * samples
+}
 
 /// Parses a shading name: `auto` or one of the modes.
 fn parse_shading(text: &str) -> Result<ShadingChoice, String> {
@@ -139,6 +162,7 @@ struct Viewer {
     shading: Option<ShadingChoice>,
     bump: bool,
     perspective_correct: bool,
+    antialias: Antialias,
     fb: Option<Framebuffer>,
     /// `--force` for the screenshot.
     force: bool,
@@ -158,6 +182,7 @@ impl Viewer {
             mesh_file: None,
             orbit: OrbitCamera::new(home.eye, home.target, home.up),
             perspective_correct: scene.settings.perspective_correct,
+            antialias: scene.settings.antialias,
             scene,
             home,
             shading: None,
@@ -206,6 +231,7 @@ impl View for Viewer {
             bump: self.bump,
             perspective_correct: Some(self.perspective_correct),
             threads: 0,
+            antialias: Some(self.antialias),
         };
         let report = render_frame(&self.scene, &mut fb, &opts);
         fb.write_0rgb_threads(out, 0);
@@ -229,7 +255,12 @@ impl View for Viewer {
             .shading
             .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
         format!(
-            "Phosphor | {mode}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            "Phosphor | {mode}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            if self.antialias == Antialias::Off {
+                String::new()
+            } else {
+                format!(" | {}", self.antialias)
+            },
             if self.bump { "" } else { " | bump off" },
             if self.perspective_correct {
                 ""
@@ -288,6 +319,24 @@ impl View for Viewer {
             }
             Action::TogglePerspective => {
                 self.perspective_correct = !self.perspective_correct;
+                true
+            }
+            Action::CycleAntialias => {
+                let next = self.antialias.next();
+                let size = self.fb.as_ref().map(|fb| (fb.width(), fb.height()));
+                let room = size.map_or(Ok(()), |size| {
+                    memory::check_image("anti-aliasing", size, bytes_per_pixel(next))
+                });
+                match room {
+                    Ok(()) => {
+                        self.antialias = next;
+                        term::say(&format!("anti-aliasing {next}"));
+                    }
+                    Err(e) => {
+                        self.antialias = Antialias::Off;
+                        term::warn(&format!("{next} not used: {e}"));
+                    }
+                }
                 true
             }
             Action::ResetView => {
@@ -400,7 +449,8 @@ fn main() -> ExitCode {
     } else {
         "the window size"
     };
-    if let Err(e) = memory::check_image(field, size, WINDOW_BYTES_PER_PIXEL) {
+    let aa_bytes = bytes_per_pixel(args.aa.unwrap_or(Antialias::Off));
+    if let Err(e) = memory::check_image(field, size, aa_bytes) {
         return fail(&e);
     }
     let mut scene = match load(&args, normals) {
@@ -417,6 +467,13 @@ fn main() -> ExitCode {
     viewer.mesh_file = args.mesh.clone();
     viewer.shading = args.shading.filter(|s| *s != ShadingChoice::Auto);
     viewer.force = args.force;
+    if let Some(aa) = args.aa {
+        viewer.antialias = aa;
+    }
+    // The scene file's `aa` is known only now.
+    if let Err(e) = memory::check_image(field, size, bytes_per_pixel(viewer.antialias)) {
+        return fail(&e);
+    }
     if args.frames.is_none() {
         term::say(KEY_HELP);
     }

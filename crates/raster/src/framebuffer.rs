@@ -55,6 +55,9 @@ pub struct Framebuffer {
     /// Per row, the columns `[lo, hi)` written since the last clear ([`CLEAN_ROW`] for none).
     /// Only the band jobs write pixels, and they widen this to each triangle's pixel box.
     pub(crate) dirty: Vec<(u32, u32)>,
+    /// The sample image of the last anti-aliased frame ([`crate::Antialias`]), kept so that
+    /// the next frame of the same size and choice reuses it instead of allocating again.
+    pub(crate) samples: Option<Box<Framebuffer>>,
 }
 
 /// A row with no pixel written since the last clear (see [`Framebuffer`]'s `dirty`).
@@ -103,6 +106,7 @@ impl Framebuffer {
             pending_clear: None,
             clean: Some(Vec3::ZERO),
             dirty: vec![CLEAN_ROW; height as usize],
+            samples: None,
         })
     }
 
@@ -137,6 +141,19 @@ impl Framebuffer {
     /// Defers [`Framebuffer::clear`] to the next banded draw (the renderer's own use).
     pub(crate) fn defer_clear(&mut self, background: Vec3) {
         self.pending_clear = Some(clamp_color(background));
+    }
+
+    /// Marks every pixel as written (after a resolve wrote them all): no clear colour is
+    /// known to hold anywhere.
+    pub(crate) fn mark_all_written(&mut self) {
+        self.clean = None;
+        self.pending_clear = None;
+        self.dirty.fill((0, self.width));
+    }
+
+    /// Drops the sample image an anti-aliased frame keeps for reuse.
+    pub fn release_samples(&mut self) {
+        self.samples = None;
     }
 
     /// Carries out a deferred clear that no draw took.

@@ -62,6 +62,7 @@ use std::str::FromStr;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use phosphor_lighting::{Effects, LightSet, Material};
 
+pub mod antialias;
 pub mod bands;
 pub mod bump;
 pub mod camera;
@@ -76,6 +77,7 @@ pub mod shade;
 #[cfg(test)]
 mod tests;
 
+pub use antialias::{Antialias, UnknownAntialias};
 pub use bump::{BumpMap, ProceduralBump};
 pub use camera::Camera;
 pub use encode::Encoding;
@@ -192,6 +194,8 @@ pub struct RenderOptions {
     pub cull_backfaces: bool,
     /// Clear colour.
     pub background: Vec3,
+    /// Anti-aliasing (off by default): samples per pixel, see [`antialias`].
+    pub antialias: Antialias,
 }
 
 impl Default for RenderOptions {
@@ -201,6 +205,7 @@ impl Default for RenderOptions {
             perspective_correct: true,
             cull_backfaces: false,
             background: Vec3::ZERO,
+            antialias: Antialias::Off,
         }
     }
 }
@@ -218,4 +223,6 @@ pub struct RenderStats {
     pub fallbacks: u64,
     /// Draws whose bump map was ignored (flat/gouraud, or no uvs/tangents in the mesh).
     pub bump_ignored: u64,
+    /// The anti-aliasing the frame was drawn with; pixel counts above are then in samples.
+    pub antialias: Antialias,
 }

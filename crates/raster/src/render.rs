@@ -4,6 +4,7 @@
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use phosphor_lighting::Effects;
 
+use crate::antialias::{Antialias, resolve};
 use crate::bands::{
     BAND_ROWS, Binned, EXTRA_VERTEX, TriRec, band_range, draw_bands, for_each_chunk_pair,
     map_chunks, map_indices,
@@ -21,6 +22,11 @@ use crate::{Camera, DrawItem, RenderOptions, RenderStats, ShadingMode};
 
 /// Renders `draws` seen by `camera` into `fb` (cleared to `opts.background` first).
 ///
+/// With [`RenderOptions::antialias`] on, the frame is drawn into a sample image `k` times
+/// larger on each side (kept in `fb` for the next frame) and box-filtered into `fb`; an image
+/// whose sample image would exceed the largest side is drawn with one sample per pixel, and
+/// [`RenderStats::antialias`] says which was used.
+///
 /// Every draw is shaded with its own mode and effect set; bad input (indices out of range,
 /// non-finite positions, zero-area triangles) is skipped, never a panic.
 pub fn render(
@@ -29,6 +35,31 @@ pub fn render(
     draws: &[DrawItem],
     opts: &RenderOptions,
 ) -> RenderStats {
+    let aa = opts.antialias;
+    if aa != Antialias::Off && aa.fits(fb.width(), fb.height()) {
+        let k = aa.factor();
+        let (width, height) = (fb.width() * k, fb.height() * k);
+        let reusable = fb
+            .samples
+            .take()
+            .filter(|s| s.width() == width && s.height() == height);
+        // `fits` checked the sides, so only the allocation itself can fail: draw one sample
+        // per pixel then, and say so in the stats.
+        if let Some(mut samples) =
+            reusable.or_else(|| Framebuffer::new(width, height).ok().map(Box::new))
+        {
+            let one_sample = RenderOptions {
+                antialias: Antialias::Off,
+                ..*opts
+            };
+            let mut stats = render(&mut samples, camera, draws, &one_sample);
+            resolve(&samples, fb, k, opts.threads);
+            fb.samples = Some(samples);
+            stats.antialias = aa;
+            return stats;
+        }
+    }
+    fb.samples = None;
     fb.defer_clear(opts.background);
     let mut stats = RenderStats::default();
     let vp = camera.view_proj(fb.width() as f32 / fb.height() as f32);

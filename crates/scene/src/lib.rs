@@ -51,7 +51,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 use hecs::{Entity, World};
 use phosphor_lighting::Light;
-use phosphor_raster::{Camera, Encoding};
+use phosphor_raster::{Antialias, Camera, Encoding};
 
 pub mod budget;
 pub mod builtin;
@@ -96,6 +96,8 @@ pub struct RenderSettings {
     pub perspective_correct: bool,
     /// Which back faces to skip (`auto` unless set: only where that cannot change a pixel).
     pub cull_backfaces: CullChoice,
+    /// Anti-aliasing (`off` unless set): `ssaa4` and `ssaa16` draw 4 or 16 samples per pixel.
+    pub antialias: Antialias,
 }
 
 /// Back-face culling of a scene (`[render] cull_backfaces`).
@@ -122,6 +124,7 @@ impl Default for RenderSettings {
             background: Vec3::ZERO,
             perspective_correct: true,
             cull_backfaces: CullChoice::Auto,
+            antialias: Antialias::Off,
         }
     }
 }

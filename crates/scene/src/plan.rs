@@ -29,7 +29,7 @@ use hecs::Entity;
 use phosphor_lighting::{
     Attenuation, Effects, Light, LightKind, LightSet, Material, SpecularModel,
 };
-use phosphor_raster::{BumpMap, Camera, ShadingMode};
+use phosphor_raster::{Antialias, BumpMap, Camera, ShadingMode};
 
 use crate::components::{
     Bump, MeshInfo, MeshRef, Name, SceneMesh, Shading, ShadingChoice, Transform,
@@ -86,6 +86,8 @@ pub struct FrameOptions {
     pub perspective_correct: Option<bool>,
     /// Worker threads, 0 = all cores.
     pub threads: usize,
+    /// Overrides the scene's anti-aliasing (`--aa`, the viewer's `A` key).
+    pub antialias: Option<Antialias>,
 }
 
 impl Default for FrameOptions {
@@ -95,6 +97,7 @@ impl Default for FrameOptions {
             bump: true,
             perspective_correct: None,
             threads: 0,
+            antialias: None,
         }
     }
 }

@@ -59,6 +59,7 @@ pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
         // Decided per object by the plan (`PlannedObject::cull_backfaces`).
         cull_backfaces: false,
         background: scene.settings.background,
+        antialias: opts.antialias.unwrap_or(scene.settings.antialias),
     }
 }
 

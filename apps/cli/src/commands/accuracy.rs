@@ -25,7 +25,7 @@ use super::{framebuffer, size_field};
 use crate::CliError;
 use crate::accuracy::{ErrorStats, compare, heat_map, median, with_scale_labels};
 use crate::args::AccuracyArgs;
-use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory};
+use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_pixel};
 use crate::mach::{EdgeJumps, JumpKind, TriangleIds, edge_jumps, jump_map, triangle_ids};
 use crate::output::{write_image, write_rgb8};
 use crate::plot::{PlotPoint, error_vs_time};
@@ -281,7 +281,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     check_memory(
         &size_field(&args.source, args.size),
         (width, height),
-        BYTES_PER_PIXEL,
+        BYTES_PER_PIXEL + sample_bytes_per_pixel(scene.settings.antialias),
     )?;
     let out_dir: Option<PathBuf> = args.out_dir.clone();
     if let Some(dir) = &out_dir {

@@ -11,7 +11,7 @@ use super::{framebuffer, size_field};
 use crate::CliError;
 use crate::accuracy::median;
 use crate::args::{BenchArgs, BenchMode};
-use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, threads};
+use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_pixel, threads};
 
 fn choices(mode: BenchMode) -> Vec<ShadingChoice> {
     let m = ShadingChoice::Mode;
@@ -36,7 +36,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     check_memory(
         &size_field(&args.source, args.size),
         (width, height),
-        FRAMEBUFFER_BYTES_PER_PIXEL,
+        FRAMEBUFFER_BYTES_PER_PIXEL + sample_bytes_per_pixel(scene.settings.antialias),
     )?;
     let mut fb = framebuffer(width, height)?;
     let threads = threads(args.threads);

@@ -31,6 +31,9 @@ pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
             CullArg::Never => CullChoice::Never,
         };
     }
+    if let Some(aa) = source.aa {
+        scene.settings.antialias = aa;
+    }
     for w in &scene.warnings {
         phosphor_output::term::warn(w);
     }

@@ -11,7 +11,7 @@ use super::{framebuffer, shading_choice, size_field};
 use crate::CliError;
 use crate::args::{EncodingArg, RenderArgs};
 use crate::frames::{Output, frames_to_render, output_for};
-use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, threads};
+use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_pixel, threads};
 use crate::output::{check_output, format_of, write_image, write_png_to_stdout};
 use crate::progress::{Progress, time_left};
 use crate::view::prepare;
@@ -42,7 +42,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     check_memory(
         &size_field(&args.source, args.size),
         (width, height),
-        FRAMEBUFFER_BYTES_PER_PIXEL,
+        FRAMEBUFFER_BYTES_PER_PIXEL + sample_bytes_per_pixel(scene.settings.antialias),
     )?;
     let opts = FrameOptions {
         shading: args.shading.map(shading_choice),
@@ -89,6 +89,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 "plan time: {:.3} ms, raster time: {:.3} ms",
                 report.plan_time.as_secs_f64() * 1e3,
                 report.raster_time.as_secs_f64() * 1e3
+            );
+            let aa = report.stats.antialias;
+            say!(
+                "anti-aliasing: {aa}, {} sample{} per pixel",
+                aa.samples(),
+                if aa.samples() == 1 { "" } else { "s" }
             );
         }
         let save_start = Instant::now();

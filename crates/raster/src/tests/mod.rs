@@ -1,5 +1,6 @@
 //! Scenario tests of the whole pipeline (unit tests of single stages sit beside their code).
 
+mod antialias;
 mod coverage;
 mod interpolation;
 mod modes;

@@ -187,7 +187,24 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
             ));
         }
     }
+    if let Some(a) = r.str("aa")? {
+        s.antialias = a
+            .parse()
+            .map_err(|e: phosphor_raster::UnknownAntialias| r.error("aa", e.to_string()))?;
+        if !s.antialias.fits(s.width, s.height) {
+            return Err(r.error(
+                "aa",
+                format!(
+                    "{a} draws {}x{} samples, over the largest side {}",
+                    u64::from(s.width) * u64::from(s.antialias.factor()),
+                    u64::from(s.height) * u64::from(s.antialias.factor()),
+                    crate::MAX_SIDE
+                ),
+            ));
+        }
+    }
     r.finish(&[
+        "aa",
         "width",
         "height",
         "shading",

@@ -57,6 +57,7 @@ fn render_table(r: &RenderSettings) -> Table {
             CullChoice::Never => Value::Boolean(false),
         },
     );
+    t.insert("aa".into(), s(r.antialias.name()));
     t
 }
 
