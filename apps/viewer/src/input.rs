@@ -31,7 +31,7 @@ phosphor-viewer keys:
   F1..F8 (or shift+1..8)  toggle light 1..8 (in scene-file order)
   B                    toggle bump mapping
   P                    toggle perspective-correct interpolation
-  A                    anti-aliasing: off, ssaa4, ssaa16 (4 or 16 samples per pixel)
+  A                    anti-aliasing of the still picture: off, ssaa4, ssaa16 (samples per pixel)
   R                    reset the view
   C                    print the camera as a scene file's [camera] block (paste it into a scene)
   S                    save a screenshot (PNG) beside the scene file (current folder for --mesh)

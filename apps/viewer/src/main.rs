@@ -59,8 +59,10 @@ struct Args {
     /// Start with this shading for every object (`auto`: the scene's own choice per object).
     #[arg(long, value_name = "MODE", value_parser = parse_shading)]
     shading: Option<ShadingChoice>,
-    /// Anti-aliasing (overrides the scene file's `aa`): `ssaa4` and `ssaa16` draw 4 or 16
-    /// samples per pixel, at about that many times the cost. Key A switches it.
+    /// Anti-aliasing of the still picture (default: the scene file's `aa`, else ssaa4; with
+    /// --frames, the scene file's): `ssaa4` and `ssaa16` draw 4 or 16 samples per pixel, at
+    /// about that many times the cost. Frames drawn while you move use it only if it keeps 60
+    /// frames a second. Key A switches it.
     #[arg(long, value_name = "off|ssaa4|ssaa16", value_parser = parse_antialias)]
     aa: Option<Antialias>,
     /// Draw this many frames, then exit.
@@ -103,6 +105,14 @@ fn parse_png_path(text: &str) -> Result<PathBuf, String> {
 /// Bytes per pixel of a window's frame: the framebuffer (RGB f32 and depth) and the 32-bit
 /// pixels presented.
 const WINDOW_BYTES_PER_PIXEL: u64 = 16 + 4;
+
+/// Frames drawn while the user moves use the still picture's anti-aliasing only if it takes
+/// at most this long (60 frames a second); otherwise they are drawn with one sample per pixel
+/// and the still picture follows when input stops.
+const MOVING_FRAME_MS: f64 = 1000.0 / 60.0;
+
+/// The still picture's anti-aliasing when neither `--aa` nor the scene file sets one.
+const DEFAULT_STILL_ANTIALIAS: Antialias = Antialias::Ssaa4;
 
 /// Bytes per sample of an anti-aliased frame's sample image (RGB f32 and depth).
 const SAMPLE_BYTES: u64 = 16;
@@ -162,7 +172,17 @@ struct Viewer {
     shading: Option<ShadingChoice>,
     bump: bool,
     perspective_correct: bool,
+    /// Anti-aliasing of the still picture (`--aa`, key A).
     antialias: Antialias,
+    /// Whether frames drawn while the user moves may use `antialias` too: the last frame drawn
+    /// with it took at most [`MOVING_FRAME_MS`].
+    antialias_keeps_up: bool,
+    /// The next frame is the refined still picture.
+    refine_next: bool,
+    /// `--frames` mode: every frame uses `antialias`, none is refined.
+    fixed_frames: bool,
+    /// The anti-aliasing the last frame was drawn with.
+    last_antialias: Antialias,
     fb: Option<Framebuffer>,
     /// `--force` for the screenshot.
     force: bool,
@@ -183,6 +203,10 @@ impl Viewer {
             orbit: OrbitCamera::new(home.eye, home.target, home.up),
             perspective_correct: scene.settings.perspective_correct,
             antialias: scene.settings.antialias,
+            antialias_keeps_up: false,
+            refine_next: false,
+            fixed_frames: false,
+            last_antialias: Antialias::Off,
             scene,
             home,
             shading: None,
@@ -194,6 +218,16 @@ impl Viewer {
             triangles: 0,
             frames: 0,
             total_ms: 0.0,
+        }
+    }
+
+    /// The anti-aliasing of the next frame: the still picture's when it is refined, in
+    /// `--frames` mode, or when frames with it keep up with [`MOVING_FRAME_MS`]; else none.
+    fn frame_antialias(&self) -> Antialias {
+        if self.fixed_frames || self.refine_next || self.antialias_keeps_up {
+            self.antialias
+        } else {
+            Antialias::Off
         }
     }
 
@@ -231,7 +265,7 @@ impl View for Viewer {
             bump: self.bump,
             perspective_correct: Some(self.perspective_correct),
             threads: 0,
-            antialias: Some(self.antialias),
+            antialias: Some(self.frame_antialias()),
         };
         let report = render_frame(&self.scene, &mut fb, &opts);
         fb.write_0rgb_threads(out, 0);
@@ -245,6 +279,12 @@ impl View for Viewer {
             0.8 * self.fps + 0.2 * fps
         };
         self.triangles = report.stats.triangles_drawn;
+        let used = report.stats.antialias;
+        if used == self.antialias && used != Antialias::Off {
+            self.antialias_keeps_up = ms <= MOVING_FRAME_MS;
+        }
+        self.last_antialias = used;
+        self.refine_next = false;
         self.frames += 1;
         self.total_ms += ms;
         Ok(())
@@ -256,10 +296,10 @@ impl View for Viewer {
             .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
         format!(
             "Phosphor | {mode}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
-            if self.antialias == Antialias::Off {
+            if self.last_antialias == Antialias::Off {
                 String::new()
             } else {
-                format!(" | {}", self.antialias)
+                format!(" | {}", self.last_antialias)
             },
             if self.bump { "" } else { " | bump off" },
             if self.perspective_correct {
@@ -330,6 +370,9 @@ impl View for Viewer {
                 match room {
                     Ok(()) => {
                         self.antialias = next;
+                        // Shown at once; whether moving frames keep up is measured anew.
+                        self.antialias_keeps_up = false;
+                        self.refine_next = true;
                         term::say(&format!("anti-aliasing {next}"));
                     }
                     Err(e) => {
@@ -360,6 +403,14 @@ impl View for Viewer {
             }
             Action::Quit => false,
         }
+    }
+
+    fn wants_refinement(&self) -> bool {
+        !self.fixed_frames && self.last_antialias != self.antialias
+    }
+
+    fn refine(&mut self) {
+        self.refine_next = true;
     }
 
     fn save_screenshot(&self, path: &Path) -> Result<(), String> {
@@ -467,12 +518,21 @@ fn main() -> ExitCode {
     viewer.mesh_file = args.mesh.clone();
     viewer.shading = args.shading.filter(|s| *s != ShadingChoice::Auto);
     viewer.force = args.force;
-    if let Some(aa) = args.aa {
-        viewer.antialias = aa;
-    }
-    // The scene file's `aa` is known only now.
+    viewer.fixed_frames = args.frames.is_some();
+    viewer.antialias = match args.aa {
+        Some(aa) => aa,
+        // Frames for measurements and screenshots draw what the scene asks for; a person
+        // looking gets a smooth still picture.
+        None if viewer.fixed_frames || viewer.antialias != Antialias::Off => viewer.antialias,
+        None => DEFAULT_STILL_ANTIALIAS,
+    };
+    // The scene file's `aa` is known only now; the default still picture's is dropped, not
+    // refused, where memory is short.
     if let Err(e) = memory::check_image(field, size, bytes_per_pixel(viewer.antialias)) {
-        return fail(&e);
+        if args.aa.is_some() || viewer.fixed_frames {
+            return fail(&e);
+        }
+        viewer.antialias = Antialias::Off;
     }
     if args.frames.is_none() {
         term::say(KEY_HELP);
@@ -527,5 +587,33 @@ mod tests {
         let block = viewer.camera_block();
         let loaded = Scene::parse(&block, "pasted.toml").unwrap();
         assert_eq!(loaded.camera(), shown, "{block}");
+    }
+
+    #[test]
+    fn moving_frames_skip_slow_anti_aliasing_and_the_still_picture_gets_it() {
+        let mut viewer = Viewer::new(Scene::default_scene().unwrap());
+        viewer.antialias = Antialias::Ssaa4;
+        let mut out = vec![0u32; 64 * 36];
+        // First frame: not yet known to keep up, drawn with one sample; refinement wanted.
+        viewer.draw(64, 36, &mut out).unwrap();
+        assert_eq!(viewer.last_antialias, Antialias::Off);
+        assert!(viewer.wants_refinement());
+        // The refined frame uses the still picture's samples, and then nothing is wanted.
+        viewer.refine();
+        viewer.draw(64, 36, &mut out).unwrap();
+        assert_eq!(viewer.last_antialias, Antialias::Ssaa4);
+        assert!(!viewer.wants_refinement());
+        // Whether it kept up depends on the machine: both outcomes, set by hand.
+        viewer.antialias_keeps_up = true;
+        viewer.apply(Action::Orbit { dx: 5.0, dy: 0.0 }, 36);
+        assert_eq!(viewer.frame_antialias(), Antialias::Ssaa4);
+        viewer.antialias_keeps_up = false;
+        assert_eq!(viewer.frame_antialias(), Antialias::Off);
+        // `--frames` mode draws every frame as asked and never refines.
+        viewer.fixed_frames = true;
+        assert_eq!(viewer.frame_antialias(), Antialias::Ssaa4);
+        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.antialias = Antialias::Ssaa16;
+        assert!(!viewer.wants_refinement());
     }
 }

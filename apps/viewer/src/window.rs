@@ -4,17 +4,19 @@
 //! `ApplicationHandler`, softbuffer 0.4): the softbuffer context is made before `run_app`, the
 //! window and surface in `resumed`, and frames are drawn only in `RedrawRequested`. The loop waits
 //! (`ControlFlow::Wait`): a frame is drawn only when input changed something, so an idle viewer
-//! uses no CPU. What is drawn is up to a [`View`] (implemented in `main.rs`); this file knows
+//! uses no CPU, except once: a view that drew a cheaper frame while the user moved (see
+//! [`View::wants_refinement`]) gets one more, refined frame after [`IDLE_DELAY`] without input. What is drawn is up to a [`View`] (implemented in `main.rs`); this file knows
 //! nothing of scenes.
 
 use std::num::NonZeroU32;
 use std::path::PathBuf;
 use std::rc::Rc;
+use std::time::{Duration, Instant};
 
 use softbuffer::{Context, Surface};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
-use winit::event::{ElementState, MouseScrollDelta, WindowEvent};
+use winit::event::{ElementState, MouseScrollDelta, StartCause, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHandle};
 use winit::keyboard::PhysicalKey;
 use winit::window::{Window, WindowId};
@@ -32,7 +34,16 @@ pub trait View {
     fn apply(&mut self, action: Action, height: u32) -> bool;
     /// Writes the last frame drawn to `path` as PNG (atomically).
     fn save_screenshot(&self, path: &std::path::Path) -> Result<(), String>;
+    /// Whether the last frame was drawn cheaper than the still picture should be (less
+    /// anti-aliasing while the user moved): the loop then asks for [`View::refine`] once input
+    /// has stopped for [`IDLE_DELAY`].
+    fn wants_refinement(&self) -> bool;
+    /// Makes the next frame the refined still picture.
+    fn refine(&mut self);
 }
+
+/// Time without input after which a view that wants refinement draws its still picture.
+pub const IDLE_DELAY: Duration = Duration::from_millis(150);
 
 /// How the window is opened and when it closes on its own.
 #[derive(Clone, Debug, Default)]
@@ -147,6 +158,14 @@ impl<V: View> App<V> {
         }
         gfx.window.set_title(&self.view.title());
         self.frames_drawn += 1;
+        // Interactive only: `--frames` runs draw exactly the frames asked for.
+        if self.options.frames.is_none() {
+            event_loop.set_control_flow(if self.view.wants_refinement() {
+                ControlFlow::WaitUntil(Instant::now() + IDLE_DELAY)
+            } else {
+                ControlFlow::Wait
+            });
+        }
         self.after_frame(event_loop);
     }
 
@@ -189,6 +208,19 @@ impl<V: View> App<V> {
 }
 
 impl<V: View> ApplicationHandler for App<V> {
+    fn new_events(&mut self, event_loop: &ActiveEventLoop, cause: StartCause) {
+        // The idle delay ran out with no input since the last frame: draw the still picture.
+        if let StartCause::ResumeTimeReached { .. } = cause {
+            event_loop.set_control_flow(ControlFlow::Wait);
+            if self.view.wants_refinement() {
+                self.view.refine();
+                if let Some(gfx) = &self.gfx {
+                    gfx.window.request_redraw();
+                }
+            }
+        }
+    }
+
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.gfx.is_some() {
             return;
