@@ -266,6 +266,7 @@ impl View for Viewer {
             perspective_correct: Some(self.perspective_correct),
             threads: 0,
             antialias: Some(self.frame_antialias()),
+            ..FrameOptions::default()
         };
         let report = render_frame(&self.scene, &mut fb, &opts);
         fb.write_0rgb_threads(out, 0);

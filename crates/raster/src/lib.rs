@@ -196,6 +196,10 @@ pub struct RenderOptions {
     pub background: Vec3,
     /// Anti-aliasing (off by default): samples per pixel, see [`antialias`].
     pub antialias: Antialias,
+    /// `gouraud` clamps each vertex intensity to at most 1 before interpolating (default:
+    /// what is interpolated is what each vertex shows, see `docs/conventions.md`); false
+    /// interpolates the model's values as Gouraud 1971 writes them and clamps only the pixel.
+    pub gouraud_vertex_clamp: bool,
 }
 
 impl Default for RenderOptions {
@@ -206,6 +210,7 @@ impl Default for RenderOptions {
             cull_backfaces: false,
             background: Vec3::ZERO,
             antialias: Antialias::Off,
+            gouraud_vertex_clamp: true,
         }
     }
 }

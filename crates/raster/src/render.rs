@@ -143,7 +143,7 @@ fn shade_draw(
             crate::with_fx!(d.effects, FX => run(fb, vp, d, &Flat::<FX> { lit }, opts, stats, false))
         }
         (ShadingMode::Gouraud, _) => {
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Gouraud::<FX> { lit }, opts, stats, false))
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Gouraud::<FX> { lit, vertex_clamp: opts.gouraud_vertex_clamp }, opts, stats, false))
         }
         (ShadingMode::Phong | ShadingMode::FastPhong, Some(map)) => {
             crate::with_fx!(d.effects, FX => run(fb, vp, d, &Phong::<FX, true> { lit, bump: Some(map) }, opts, stats, false))

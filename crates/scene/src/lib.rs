@@ -98,6 +98,9 @@ pub struct RenderSettings {
     pub cull_backfaces: CullChoice,
     /// Anti-aliasing (`off` unless set): `ssaa4` and `ssaa16` draw 4 or 16 samples per pixel.
     pub antialias: Antialias,
+    /// `gouraud` clamps vertex intensities to 1 before interpolating (`gouraud_clamp`, on
+    /// unless set; see [`phosphor_raster::RenderOptions::gouraud_vertex_clamp`]).
+    pub gouraud_vertex_clamp: bool,
 }
 
 /// Back-face culling of a scene (`[render] cull_backfaces`).
@@ -125,6 +128,7 @@ impl Default for RenderSettings {
             perspective_correct: true,
             cull_backfaces: CullChoice::Auto,
             antialias: Antialias::Off,
+            gouraud_vertex_clamp: true,
         }
     }
 }

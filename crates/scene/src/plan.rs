@@ -88,6 +88,8 @@ pub struct FrameOptions {
     pub threads: usize,
     /// Overrides the scene's anti-aliasing (`--aa`, the viewer's `A` key).
     pub antialias: Option<Antialias>,
+    /// Overrides the scene's `gouraud_clamp`.
+    pub gouraud_vertex_clamp: Option<bool>,
 }
 
 impl Default for FrameOptions {
@@ -98,6 +100,7 @@ impl Default for FrameOptions {
             perspective_correct: None,
             threads: 0,
             antialias: None,
+            gouraud_vertex_clamp: None,
         }
     }
 }

@@ -60,6 +60,9 @@ pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
         cull_backfaces: false,
         background: scene.settings.background,
         antialias: opts.antialias.unwrap_or(scene.settings.antialias),
+        gouraud_vertex_clamp: opts
+            .gouraud_vertex_clamp
+            .unwrap_or(scene.settings.gouraud_vertex_clamp),
     }
 }
 

@@ -14,6 +14,21 @@ use crate::setup::{RasterTri, ScreenVertex};
 pub struct Gouraud<'a, const FX: u32> {
     /// Lights, material, viewer.
     pub lit: Lit<'a>,
+    /// Clamp each vertex intensity to at most 1 before interpolating
+    /// ([`crate::RenderOptions::gouraud_vertex_clamp`]).
+    pub vertex_clamp: bool,
+}
+
+impl<const FX: u32> Gouraud<'_, FX> {
+    /// The intensity a vertex contributes: clamped to the display range, or as computed.
+    #[inline]
+    fn at_vertex(&self, i: Vec3) -> Vec3 {
+        if self.vertex_clamp {
+            i.min(Vec3::ONE)
+        } else {
+            i
+        }
+    }
 }
 
 impl<const FX: u32> Kernel for Gouraud<'_, FX> {
@@ -35,9 +50,8 @@ impl<const FX: u32> Mode for Gouraud<'_, FX> {
     type Tri = ();
     fn vertex(&self, v: &VertexIn) -> Attrs {
         let mut a = [0.0; MAX_ATTRS];
-        // Clamped at the vertex: the display range, and what is interpolated is what is seen.
         let i = shade::<FX>(self.lit.set, &self.lit.mat, v.world, v.normal, self.lit.eye);
-        put3(&mut a, 0, i.min(Vec3::ONE));
+        put3(&mut a, 0, self.at_vertex(i));
         a
     }
     fn vertex4(&self, v: [&VertexIn; 4]) -> [Attrs; 4] {
@@ -52,7 +66,7 @@ impl<const FX: u32> Mode for Gouraud<'_, FX> {
         .to_array();
         i.map(|i| {
             let mut a = [0.0; MAX_ATTRS];
-            put3(&mut a, 0, i.min(Vec3::ONE));
+            put3(&mut a, 0, self.at_vertex(i));
             a
         })
     }

@@ -730,3 +730,40 @@ fn timing_sphere_1080p_per_mode() {
         );
     }
 }
+
+#[test]
+fn gouraud_without_the_vertex_clamp_interpolates_the_models_values() {
+    // A strong light makes some vertex intensities exceed 1: the clamped form interpolates 1
+    // there, the unclamped one the model's values, clamped only at the pixel. Where all three
+    // vertices stay below 1 the two agree; nowhere is the clamped form brighter.
+    let sphere = uv_sphere(1.0, 24, 12);
+    let lights = LightSet::new(
+        Vec3::splat(0.05),
+        &[Light::point(Vec3::new(1.5, 1.5, 2.0), Vec3::splat(6.0)).unwrap()],
+    );
+    let material = Material::s1();
+    let draws = [item(&sphere, &material, &lights, ShadingMode::Gouraud)];
+    let cam = Camera::s1();
+    let opts = |clamp| RenderOptions {
+        gouraud_vertex_clamp: clamp,
+        threads: 1,
+        ..RenderOptions::default()
+    };
+    let (clamped, _) = draw_image(96, 72, &cam, &draws, &opts(true));
+    let (raw, _) = draw_image(96, 72, &cam, &draws, &opts(false));
+    let (mut brighter, mut same) = (0, 0);
+    for (c, r) in clamped.color().iter().zip(raw.color()) {
+        assert!(r.is_finite() && r.max_element() <= 1.0 && r.min_element() >= 0.0);
+        assert!((*c - *r).max_element() <= 1e-6, "clamped {c} above raw {r}");
+        if (*r - *c).max_element() > ONE_CODE {
+            brighter += 1;
+        } else {
+            same += 1;
+        }
+    }
+    assert!(
+        brighter > 20,
+        "{brighter} pixels brighter without the clamp"
+    );
+    assert!(same > brighter, "{same} pixels agree");
+}

@@ -203,8 +203,12 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
             ));
         }
     }
+    if let Some(c) = r.bool("gouraud_clamp")? {
+        s.gouraud_vertex_clamp = c;
+    }
     r.finish(&[
         "aa",
+        "gouraud_clamp",
         "width",
         "height",
         "shading",

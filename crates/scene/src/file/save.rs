@@ -58,6 +58,10 @@ fn render_table(r: &RenderSettings) -> Table {
         },
     );
     t.insert("aa".into(), s(r.antialias.name()));
+    t.insert(
+        "gouraud_clamp".into(),
+        Value::Boolean(r.gouraud_vertex_clamp),
+    );
     t
 }
 
