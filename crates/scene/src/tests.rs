@@ -667,7 +667,12 @@ fn out_of_range_sample_counts_are_echoed_as_written() {
 
 #[test]
 fn gouraud_clamp_is_a_render_setting_checked_by_field() {
-    assert!(Scene::parse("", "t.toml").unwrap().settings.gouraud_vertex_clamp);
+    assert!(
+        Scene::parse("", "t.toml")
+            .unwrap()
+            .settings
+            .gouraud_vertex_clamp
+    );
     let s = Scene::parse("[render]\ngouraud_clamp = false\n", "t.toml").unwrap();
     assert!(!s.settings.gouraud_vertex_clamp);
     let e = err("[render]\ngouraud_clamp = \"no\"\n");
