@@ -7,10 +7,10 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use phosphor_args::{CameraArgs, NormalArgs, parse_antialias};
 use phosphor_raster::Antialias;
 
 use crate::frames::{FrameRange, parse_frame_range};
-use crate::view::{CameraArgs, NormalArgs};
 
 /// Largest accepted image side, in pixels (a 16k x 16k f32 framebuffer is already 3 GiB).
 pub const MAX_SIDE: u32 = 16_384;
@@ -74,12 +74,6 @@ pub struct SceneSource {
     /// samples per pixel (a 2x2 or 4x4 grid, box-filtered), at about that many times the cost.
     #[arg(long, value_name = "off|ssaa4|ssaa16", value_parser = parse_antialias)]
     pub aa: Option<Antialias>,
-}
-
-/// An anti-aliasing name.
-fn parse_antialias(text: &str) -> Result<Antialias, String> {
-    text.parse()
-        .map_err(|e: phosphor_raster::UnknownAntialias| e.to_string())
 }
 
 /// Back-face culling on the command line.

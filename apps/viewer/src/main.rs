@@ -63,7 +63,7 @@ struct Args {
     /// --frames, the scene file's): `ssaa4` and `ssaa16` draw 4 or 16 samples per pixel, at
     /// about that many times the cost. Frames drawn while you move use it only if it keeps 60
     /// frames a second. Key A switches it.
-    #[arg(long, value_name = "off|ssaa4|ssaa16", value_parser = parse_antialias)]
+    #[arg(long, value_name = "off|ssaa4|ssaa16", value_parser = phosphor_args::parse_antialias)]
     aa: Option<Antialias>,
     /// Draw this many frames, then exit.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
@@ -73,19 +73,13 @@ struct Args {
     screenshot: Option<PathBuf>,
     /// Camera flags.
     #[command(flatten)]
-    camera: view::CameraArgs,
+    camera: phosphor_args::CameraArgs,
     /// Normal flags of --mesh.
     #[command(flatten)]
-    normals: view::NormalArgs,
+    normals: phosphor_args::NormalArgs,
     /// Let --screenshot replace a read-only file, or write into a device or FIFO.
     #[arg(long)]
     force: bool,
-}
-
-/// An anti-aliasing name.
-fn parse_antialias(text: &str) -> Result<Antialias, String> {
-    text.parse()
-        .map_err(|e: phosphor_raster::UnknownAntialias| e.to_string())
 }
 
 /// A screenshot path: it must end in `.png`, the only format the viewer writes.
@@ -479,8 +473,8 @@ fn main() -> ExitCode {
         ExitCode::from(2)
     };
     let (change, normals) = match (
-        view::camera_override(&args.camera),
-        view::normal_options(&args.normals, args.mesh.is_some()),
+        phosphor_args::camera_override(&args.camera),
+        phosphor_args::normal_options(&args.normals, args.mesh.is_some()),
     ) {
         (Ok(c), Ok(n)) => (c, n),
         (Err(e), _) | (_, Err(e)) => return usage(e),
@@ -511,7 +505,7 @@ fn main() -> ExitCode {
     };
     let size = args.size.unwrap_or(DEFAULT_SIZE);
     let frame_mesh = args.scene.is_none() && args.mesh.is_some();
-    if let Err(e) = view::set_camera(&mut scene, &change, frame_mesh, size) {
+    if let Err(e) = phosphor_args::frame_and_apply(&mut scene, &change, frame_mesh, size) {
         return usage(e);
     }
     let mut viewer = Viewer::new(scene);

@@ -1,0 +1,277 @@
+//! Command-line arguments shared by Phosphor's programs (`phosphor` and `phosphor-viewer`):
+//! the camera flags (`--eye --target --up --fov`, or the orbit form `--azimuth --elevation
+//! --distance`), the normal flags of `--mesh`, `--aa`, and the automatic framing of a mesh, so
+//! that both programs take the same flags with the same checks and messages.
+//!
+//! Every check returns a one-line message naming its flag; each program turns it into its own
+//! usage error (exit 2).
+//!
+//! ```
+//! use clap::Parser;
+//! use phosphor_args::{CameraArgs, camera_override};
+//!
+//! #[derive(Parser)]
+//! struct Cli {
+//!     #[command(flatten)]
+//!     camera: CameraArgs,
+//! }
+//!
+//! let cli = Cli::parse_from(["demo", "--azimuth", "45", "--elevation", "30"]);
+//! let change = camera_override(&cli.camera).unwrap();
+//! assert_eq!(change.azimuth_deg, Some(45.0));
+//! let bad = Cli::parse_from(["demo", "--fov", "0"]);
+//! assert!(camera_override(&bad.camera).unwrap_err().starts_with("--fov: "));
+//! ```
+
+use clap::{Args, ValueEnum};
+use phosphor_math::glam::Vec3;
+use phosphor_mesh::{NormalOptions, NormalSource, Weighting};
+use phosphor_raster::{Antialias, UnknownAntialias};
+use phosphor_scene::Scene;
+use phosphor_scene::view::{CameraOverride, framed_camera, parse_vec3};
+
+/// Azimuth of the view `--mesh` starts from, degrees (a three-quarter view, as
+/// `phosphor render --mesh`).
+pub const MESH_AZIMUTH_DEG: f32 = 30.0;
+/// Elevation of the view `--mesh` starts from, degrees.
+pub const MESH_ELEVATION_DEG: f32 = 20.0;
+
+/// The camera flags, shared by `phosphor render`, `bench`, `accuracy` and the viewer.
+#[derive(Clone, Debug, Default, Args)]
+#[command(
+    next_help_heading = "Camera (overrides the scene's; orbit angles about --up, azimuth 0 = from +Z)"
+)]
+pub struct CameraArgs {
+    /// Eye position.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub eye: Option<String>,
+    /// The point looked at; also the orbit centre.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub target: Option<String>,
+    /// Up direction.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub up: Option<String>,
+    /// Vertical field of view in degrees, in (0, 180).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub fov: Option<f32>,
+    /// Orbit: degrees about the up axis around the scene's centre (or --target); +90 looks from +X.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub azimuth: Option<f32>,
+    /// Orbit: degrees above the plane normal to up, in (-90, 90).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub elevation: Option<f32>,
+    /// Orbit: distance from the centre (> 0). Orbit values left out keep the scene camera's.
+    #[arg(long, value_name = "D", allow_hyphen_values = true)]
+    pub distance: Option<f32>,
+}
+
+/// Where `--mesh`'s normals come from (the scene file's `normals.source`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum NormalsArg {
+    /// The file's `vn` where every corner has one, computed otherwise.
+    #[value(alias = "authored")]
+    File,
+    /// Always computed from the geometry.
+    Computed,
+}
+
+/// How face normals are weighted at a vertex (the scene file's `normals.weighting`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum WeightingArg {
+    /// Every face counts once.
+    Uniform,
+    /// By face area.
+    Area,
+    /// By the face's angle at the vertex.
+    Angle,
+}
+
+/// The normal flags of `--mesh`, mirroring a scene file's `normals = { ... }`.
+#[derive(Clone, Debug, Default, Args)]
+#[command(next_help_heading = "Normals of --mesh (as a scene file's `normals = { ... }`)")]
+pub struct NormalArgs {
+    /// Faces meeting at a sharper angle (degrees, 0..=180) keep separate normals. Default: the
+    /// scene files' (the OBJ's smoothing groups if it has `s` lines, else 60).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub crease_angle: Option<f32>,
+    /// Authored `vn` (`file`, also `authored`) or normals computed from the geometry.
+    #[arg(long, value_enum, value_name = "file|computed")]
+    pub normals: Option<NormalsArg>,
+    /// Weighting of face normals at a vertex.
+    #[arg(long, value_enum, value_name = "uniform|area|angle")]
+    pub weighting: Option<WeightingArg>,
+    /// Ignore the OBJ's smoothing groups (`s` lines).
+    #[arg(long)]
+    pub no_smoothing_groups: bool,
+    /// Never average normals across faces of different materials.
+    #[arg(long)]
+    pub split_by_material: bool,
+}
+
+impl NormalArgs {
+    /// The first normal flag given, if any.
+    fn first_given(&self) -> Option<&'static str> {
+        [
+            (self.crease_angle.is_some(), "--crease-angle"),
+            (self.normals.is_some(), "--normals"),
+            (self.weighting.is_some(), "--weighting"),
+            (self.no_smoothing_groups, "--no-smoothing-groups"),
+            (self.split_by_material, "--split-by-material"),
+        ]
+        .into_iter()
+        .find_map(|(given, flag)| given.then_some(flag))
+    }
+}
+
+/// The normal options `--mesh` builds its mesh with (`mesh`: whether `--mesh` was given).
+///
+/// # Errors
+/// A normal flag without `--mesh`, or a crease angle outside 0..=180, naming the flag.
+pub fn normal_options(args: &NormalArgs, mesh: bool) -> Result<NormalOptions, String> {
+    let mut opts = NormalOptions::default();
+    if let Some(flag) = args.first_given() {
+        if !mesh {
+            return Err(format!(
+                "{flag}: applies to --mesh only (a scene file sets `normals = {{ ... }}` per object)"
+            ));
+        }
+    }
+    if let Some(a) = args.crease_angle {
+        if !(0.0..=180.0).contains(&a) {
+            return Err(format!(
+                "--crease-angle: must be between 0 and 180, got {a}"
+            ));
+        }
+        opts.crease_angle_deg = Some(a);
+    }
+    if let Some(n) = args.normals {
+        opts.source = match n {
+            NormalsArg::File => NormalSource::Authored,
+            NormalsArg::Computed => NormalSource::Computed,
+        };
+    }
+    if let Some(w) = args.weighting {
+        opts.weighting = match w {
+            WeightingArg::Uniform => Weighting::Uniform,
+            WeightingArg::Area => Weighting::Area,
+            WeightingArg::Angle => Weighting::Angle,
+        };
+    }
+    opts.use_smoothing_groups = !args.no_smoothing_groups;
+    opts.split_by_material = args.split_by_material;
+    Ok(opts)
+}
+
+/// The camera change the flags ask for, every value checked on its own.
+///
+/// # Errors
+/// A malformed, non-finite or out-of-range value, naming its flag.
+pub fn camera_override(args: &CameraArgs) -> Result<CameraOverride, String> {
+    let vector = |flag: &str, text: &Option<String>| -> Result<Option<Vec3>, String> {
+        text.as_deref()
+            .map(parse_vec3)
+            .transpose()
+            .map_err(|e| format!("{flag}: {e}"))
+    };
+    let o = CameraOverride {
+        eye: vector("--eye", &args.eye)?,
+        target: vector("--target", &args.target)?,
+        up: vector("--up", &args.up)?,
+        fov_y_deg: args.fov,
+        azimuth_deg: args.azimuth,
+        elevation_deg: args.elevation,
+        distance: args.distance,
+    };
+    o.check().map_err(|e| e.to_string())?;
+    Ok(o)
+}
+
+/// Frames a `--mesh` scene for a window of `size` (its bounding sphere fits the view) and
+/// applies the camera change.
+///
+/// # Errors
+/// A camera change that cannot be made (eye on the target, view parallel to up), naming the flag.
+pub fn frame_and_apply(
+    scene: &mut Scene,
+    change: &CameraOverride,
+    frame_mesh: bool,
+    size: (u32, u32),
+) -> Result<(), String> {
+    let bounds = scene.bounding_sphere();
+    if frame_mesh {
+        let (centre, radius) = bounds.unwrap_or((Vec3::ZERO, 1.0));
+        let fov = scene.camera().fov_y_deg;
+        scene.set_camera(framed_camera(
+            centre,
+            radius,
+            Vec3::Y,
+            MESH_AZIMUTH_DEG,
+            MESH_ELEVATION_DEG,
+            fov,
+            size.0.max(1) as f32 / size.1.max(1) as f32,
+        ));
+    }
+    let cam = change
+        .apply(scene.camera(), bounds)
+        .map_err(|e| e.to_string())?;
+    scene.set_camera(cam);
+    Ok(())
+}
+
+/// Parses an anti-aliasing name for `--aa`.
+///
+/// # Errors
+/// An unknown name, listing the known ones.
+pub fn parse_antialias(text: &str) -> Result<Antialias, String> {
+    text.parse().map_err(|e: UnknownAntialias| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+
+    #[test]
+    fn camera_flags_are_checked_and_name_the_flag() {
+        let bad = CameraArgs {
+            eye: Some("1,2".to_owned()),
+            ..CameraArgs::default()
+        };
+        assert!(camera_override(&bad).unwrap_err().starts_with("--eye: "));
+        let bad = CameraArgs {
+            fov: Some(0.0),
+            ..CameraArgs::default()
+        };
+        assert!(camera_override(&bad).unwrap_err().starts_with("--fov: "));
+        let bad = NormalArgs {
+            crease_angle: Some(f32::NAN),
+            ..NormalArgs::default()
+        };
+        assert!(
+            normal_options(&bad, true)
+                .unwrap_err()
+                .starts_with("--crease-angle: ")
+        );
+        let without_mesh = NormalArgs {
+            split_by_material: true,
+            ..NormalArgs::default()
+        };
+        assert!(
+            normal_options(&without_mesh, false)
+                .unwrap_err()
+                .contains("--mesh only")
+        );
+        assert!(normal_options(&without_mesh, true).is_ok());
+    }
+
+    #[test]
+    fn anti_aliasing_names_are_parsed_or_listed() {
+        assert_eq!(parse_antialias("ssaa4"), Ok(Antialias::Ssaa4));
+        assert!(
+            parse_antialias("msaa4")
+                .unwrap_err()
+                .contains("off, ssaa4 or ssaa16")
+        );
+    }
+}
