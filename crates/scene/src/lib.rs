@@ -51,7 +51,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 use hecs::{Entity, World};
 use phosphor_lighting::Light;
-use phosphor_raster::{Camera, Encoding};
+use phosphor_raster::{Camera, Encoding, FastPhongMethod, Interpolation};
 
 pub mod budget;
 pub mod builtin;
@@ -96,6 +96,12 @@ pub struct RenderSettings {
     pub perspective_correct: bool,
     /// Which back faces to skip (`auto` unless set: only where that cannot change a pixel).
     pub cull_backfaces: CullChoice,
+    /// How `fast-phong` makes its quadratics (`fast_phong = "taylor" | "fit"`, Taylor unless
+    /// set).
+    pub fast_phong: FastPhongMethod,
+    /// How `gouraud` and `phong` interpolate (`interpolation = "plane" | "incremental"`, plane
+    /// unless set).
+    pub interpolation: Interpolation,
 }
 
 /// Back-face culling of a scene (`[render] cull_backfaces`).
@@ -122,6 +128,8 @@ impl Default for RenderSettings {
             background: Vec3::ZERO,
             perspective_correct: true,
             cull_backfaces: CullChoice::Auto,
+            fast_phong: FastPhongMethod::Taylor,
+            interpolation: Interpolation::Plane,
         }
     }
 }

@@ -86,6 +86,10 @@ pub struct FrameOptions {
     pub perspective_correct: Option<bool>,
     /// Worker threads, 0 = all cores.
     pub threads: usize,
+    /// Overrides the scene's `fast_phong` (`--fast-phong`).
+    pub fast_phong: Option<phosphor_raster::FastPhongMethod>,
+    /// Overrides the scene's `interpolation` (`--interpolation`).
+    pub interpolation: Option<phosphor_raster::Interpolation>,
 }
 
 impl Default for FrameOptions {
@@ -95,6 +99,8 @@ impl Default for FrameOptions {
             bump: true,
             perspective_correct: None,
             threads: 0,
+            fast_phong: None,
+            interpolation: None,
         }
     }
 }

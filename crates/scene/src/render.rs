@@ -59,6 +59,8 @@ pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
         // Decided per object by the plan (`PlannedObject::cull_backfaces`).
         cull_backfaces: false,
         background: scene.settings.background,
+        fast_phong: opts.fast_phong.unwrap_or(scene.settings.fast_phong),
+        interpolation: opts.interpolation.unwrap_or(scene.settings.interpolation),
     }
 }
 

@@ -187,6 +187,20 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
             ));
         }
     }
+    if let Some(m) = r.str("fast_phong")? {
+        s.fast_phong = m
+            .parse()
+            .map_err(|e: phosphor_raster::UnknownFastPhongMethod| {
+                r.error("fast_phong", e.to_string())
+            })?;
+    }
+    if let Some(m) = r.str("interpolation")? {
+        s.interpolation = m
+            .parse()
+            .map_err(|e: phosphor_raster::UnknownInterpolation| {
+                r.error("interpolation", e.to_string())
+            })?;
+    }
     r.finish(&[
         "width",
         "height",
@@ -195,6 +209,8 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
         "background",
         "perspective_correct",
         "cull_backfaces",
+        "fast_phong",
+        "interpolation",
     ])?;
     Ok(s)
 }

@@ -57,6 +57,8 @@ fn render_table(r: &RenderSettings) -> Table {
             CullChoice::Never => Value::Boolean(false),
         },
     );
+    t.insert("fast_phong".into(), s(r.fast_phong.name()));
+    t.insert("interpolation".into(), s(r.interpolation.name()));
     t
 }
 
