@@ -427,3 +427,101 @@ pub(crate) fn build<const FX: u32>(
     }
     Some(tri)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The exact function the expansion approximates.
+    fn exact(abc: [f64; 3], den: [f64; 6], x: f64, y: f64) -> f64 {
+        let [a, b, c] = abc;
+        let [d, e, f, g, h, i] = den;
+        (a * x + b * y + c) / (d * x * x + e * x * y + f * y * y + g * x + h * y + i).sqrt()
+    }
+
+    /// `(L.N)/|N|` coefficients for `N = A x + B y + C`.
+    fn coefficients(l: DVec3, a: DVec3, b: DVec3, c: DVec3) -> ([f64; 3], [f64; 6]) {
+        (
+            [l.dot(a), l.dot(b), l.dot(c)],
+            [
+                a.dot(a),
+                2.0 * a.dot(b),
+                b.dot(b),
+                2.0 * a.dot(c),
+                2.0 * b.dot(c),
+                c.dot(c),
+            ],
+        )
+    }
+
+    #[test]
+    fn taylor_expansion_is_exact_to_second_degree() {
+        let l = DVec3::new(0.3, 0.4, 0.87).normalize();
+        let (abc, den) = coefficients(
+            l,
+            DVec3::new(0.02, -0.01, 0.005),
+            DVec3::new(-0.004, 0.03, 0.01),
+            DVec3::new(0.1, 0.2, 0.97),
+        );
+        let q = taylor2(abc, den).unwrap();
+        // The remainder is third order: halving the distance divides it by about 8.
+        let remainder = |h: f64| (eval(&q, h, 0.7 * h) - exact(abc, den, h, 0.7 * h)).abs();
+        let (r1, r2) = (remainder(1.0), remainder(0.5));
+        assert!(r1 > 0.0 && r2 > 0.0);
+        let ratio = r1 / r2;
+        assert!((6.0..=10.0).contains(&ratio), "ratio {ratio}");
+        assert!((eval(&q, 0.0, 0.0) - exact(abc, den, 0.0, 0.0)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn forward_differences_equal_direct_evaluation_over_4096_steps() {
+        // A triangle about 4096 pixels wide whose normals turn by about 0.2 across it.
+        let l = DVec3::new(0.3, 0.4, 0.87).normalize();
+        let (a, b, c) = (
+            DVec3::new(4e-5, -1e-5, 0.0),
+            DVec3::new(-1e-5, 3e-5, 0.0),
+            DVec3::new(0.1, 0.2, 0.97),
+        );
+        let (abc, den) = coefficients(l, a, b, c);
+        let q = taylor2(abc, den).unwrap();
+        let h = DVec3::new(0.2, 0.3, 1.0).normalize();
+        let (habc, hden) = coefficients(h, a, b, c);
+        let cosine = taylor2(habc, hden).unwrap();
+        let tri = TaylorTri {
+            origin: (2048.0, 600.0),
+            ambient: Vec3::splat(0.05),
+            diffuse: [q; 3],
+            cosine: [cosine; MAX_TAYLOR_LIGHTS],
+            specular: [Vec3::splat(0.3), Vec3::ZERO, Vec3::ZERO, Vec3::ZERO],
+            lights: 1,
+            shininess: 16.0,
+        };
+        let (x0, y) = (0.5f32, 123.5f32);
+        let mut span = TaylorKernel.span(&tri, x0, y);
+        let mut worst = 0.0f64;
+        let mut worst_colour = 0.0f32;
+        for k in 0..4096 {
+            let x = f64::from(x0) + f64::from(k);
+            let (u, v) = (x - tri.origin.0, f64::from(y) - tri.origin.1);
+            worst = worst.max((span.diffuse()[0] - eval(&q, u, v)).abs());
+            worst = worst.max((span.cosine()[0] - eval(&cosine, u, v)).abs());
+            let colour = TaylorKernel.shade(&tri, &span, &[0.0; crate::clip::MAX_ATTRS], 0, 0);
+            worst_colour =
+                worst_colour.max((colour - tri.total_at(x, f64::from(y))).abs().max_element());
+            TaylorKernel::step(&mut span);
+        }
+        assert!(worst <= 1e-5, "forward differences drift {worst}");
+        assert!(worst_colour <= 1e-5, "colour drift {worst_colour}");
+    }
+
+    #[test]
+    fn product_truncates_to_second_degree() {
+        let p = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+        let q = [0.5, -1.0, 0.25, 2.0, -3.0, 1.5];
+        let r = product2(&p, &q);
+        // Near the origin the product agrees with the truncation to third order.
+        let (x, y) = (1e-3, -2e-3);
+        let full = eval(&p, x, y) * eval(&q, x, y);
+        assert!((full - eval(&r, x, y)).abs() < 1e-7);
+    }
+}

@@ -4,3 +4,4 @@ mod coverage;
 mod interpolation;
 mod modes;
 mod support;
+mod variants;
