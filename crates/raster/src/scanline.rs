@@ -10,7 +10,9 @@
 //! Attributes are planes `A(x, y)`: at each span start every plane is evaluated afresh, then
 //! stepped along the span by the triangle's constant `dA/dx` per pixel (Gouraud 1971's
 //! `(I5 - I4)/(x5 - x4)`). Unlike the classic scan-line algorithm, nothing is stepped from one
-//! scan line to the next, so no rounding error accumulates down a tall triangle. With
+//! scan line to the next, so no rounding error accumulates down a tall triangle. The classic
+//! form, edge values stepped per scan line in f32, is [`traverse_incremental`]
+//! ([`crate::Interpolation::Incremental`]), with the same coverage and depth. With
 //! perspective the stepped values are `A/w` and `1/w`, divided per pixel.
 //!
 //! A band can be drawn in two passes ([`Pass`]): depth only, recording which triangle is
