@@ -510,8 +510,8 @@ mod tests {
     fn rows_cover_every_mode_once_with_distinct_files_and_reference_last() {
         for mode in ShadingMode::ALL {
             assert!(
-                ROWS.iter()
-                    .any(|r| r.shading == ShadingChoice::Mode(mode) && r.label == mode.name()),
+                ROWS.iter().any(|r| r.shading == ShadingChoice::Mode(mode)
+                    && (r.label == mode.name() || r.label.starts_with(mode.name()))),
                 "{mode:?}"
             );
         }
@@ -521,5 +521,21 @@ mod tests {
         assert_eq!(files.len(), ROWS.len());
         assert_eq!(ROWS[ROWS.len() - 1].label, "reference");
         assert!(ROWS.iter().any(|r| r.shading == ShadingChoice::Auto));
+        // Every variant of fast-phong and of the interpolation has a row.
+        for method in FastPhongMethod::ALL {
+            assert!(
+                ROWS.iter()
+                    .any(|r| r.fast_phong == Some(method)
+                        && r.mode() == Some(ShadingMode::FastPhong))
+            );
+        }
+        for mode in [ShadingMode::Gouraud, ShadingMode::Phong] {
+            for interpolation in Interpolation::ALL {
+                assert!(
+                    ROWS.iter()
+                        .any(|r| r.mode() == Some(mode) && r.interpolation == Some(interpolation))
+                );
+            }
+        }
     }
 }
