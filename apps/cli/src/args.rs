@@ -34,7 +34,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (or a mesh in the standard scene S1) to a PNG or EXR file.
     #[command(
-        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render scene.toml --plan               (print the frame plan only)\n  phosphor render --mesh cube.obj --azimuth 45 --elevation 30 -o cube.png\n  phosphor render scene.toml --eye 4,2,4 --target 0,0.5,0 --fov 35 -o view.png\n  phosphor render scene.toml --turntable 36 -o out/frame_%04d.png\n  phosphor render scene.toml --turntable 36 --frames 0..18 -o out/frame_%04d.png   (first half)\n  phosphor render scene.toml -o - > frame.png     (one PNG on standard output)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear, tagged as such) or\n.exr (linear f32). Each file is written whole or not at all: on any error (a full disk too)\nan existing file is left untouched. A symbolic link is written through; a read-only file,\na device or a FIFO only with --force."
+        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render assets/scenes/s1.toml --shading fast-phong --fast-phong fit -o fit.png\n  phosphor render assets/scenes/s1.toml --shading gouraud --interpolation incremental -o inc.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render scene.toml --plan               (print the frame plan only)\n  phosphor render --mesh cube.obj --azimuth 45 --elevation 30 -o cube.png\n  phosphor render scene.toml --eye 4,2,4 --target 0,0.5,0 --fov 35 -o view.png\n  phosphor render scene.toml --turntable 36 -o out/frame_%04d.png\n  phosphor render scene.toml --turntable 36 --frames 0..18 -o out/frame_%04d.png   (first half)\n  phosphor render scene.toml -o - > frame.png     (one PNG on standard output)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear, tagged as such) or\n.exr (linear f32). Each file is written whole or not at all: on any error (a full disk too)\nan existing file is left untouched. A symbolic link is written through; a read-only file,\na device or a FIFO only with --force."
     )]
     Render(RenderArgs),
     /// Render in every mode, compare each with `reference`, and print a table of errors and times.
@@ -96,7 +96,7 @@ pub enum ModeArg {
     Gouraud,
     /// Per pixel with interpolated normals.
     Phong,
-    /// A quadratic fitted per large triangle, stepped by forward differences; else phong.
+    /// A quadratic per triangle stepped by forward differences (see --fast-phong); else phong.
     FastPhong,
     /// Ground truth: per pixel in f64.
     Reference,
@@ -113,7 +113,7 @@ pub enum BenchMode {
     Gouraud,
     /// Per pixel with interpolated normals.
     Phong,
-    /// A quadratic fitted per large triangle, stepped by forward differences; else phong.
+    /// A quadratic per triangle stepped by forward differences (see --fast-phong); else phong.
     FastPhong,
     /// Ground truth: per pixel in f64.
     Reference,
@@ -121,6 +121,60 @@ pub enum BenchMode {
     Auto,
     /// Every mode above, one line each.
     All,
+}
+
+/// How fast-phong makes its quadratic (`--fast-phong`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FastPhongArg {
+    /// Bishop and Weimer 1986: the diffuse and specular terms expanded in a Taylor series to
+    /// second degree about each triangle's centroid.
+    Taylor,
+    /// A quadratic through the exact terms at the vertices and edge midpoints of each
+    /// triangle of 128 pixels or more.
+    Fit,
+}
+
+/// How gouraud and phong interpolate (`--interpolation`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum InterpolationArg {
+    /// Planes evaluated afresh at each span start (no drift down a tall triangle).
+    Plane,
+    /// Gouraud 1971's incremental scan line: values stepped per scan line and per pixel in f32.
+    Incremental,
+}
+
+/// The variant flags of the approximate modes, shared by render, bench and accuracy.
+#[derive(Debug, Args, Clone, Copy, Default)]
+pub struct VariantArgs {
+    /// How fast-phong makes its per-triangle quadratic (overrides the scene file; default
+    /// fit): `fit` = a six-point fit, `taylor` = Bishop and Weimer 1986's Taylor expansion.
+    #[arg(long, value_enum, value_name = "fit|taylor")]
+    pub fast_phong: Option<FastPhongArg>,
+    /// How gouraud and phong interpolate across a triangle (overrides the scene file; default
+    /// plane): `plane` = evaluated at each span start, `incremental` = Gouraud 1971's
+    /// per-scan-line increments in f32.
+    #[arg(long, value_enum, value_name = "plane|incremental")]
+    pub interpolation: Option<InterpolationArg>,
+}
+
+impl VariantArgs {
+    /// The fast-Phong method asked for, if any.
+    #[must_use]
+    pub fn fast_phong(&self) -> Option<phosphor_raster::FastPhongMethod> {
+        self.fast_phong.map(|m| match m {
+            FastPhongArg::Taylor => phosphor_raster::FastPhongMethod::Taylor,
+            FastPhongArg::Fit => phosphor_raster::FastPhongMethod::Fit,
+        })
+    }
+
+    /// The interpolation asked for, if any.
+    #[must_use]
+    pub fn interpolation(&self) -> Option<phosphor_raster::Interpolation> {
+        self.interpolation.map(|m| match m {
+            InterpolationArg::Plane => phosphor_raster::Interpolation::Plane,
+            InterpolationArg::Incremental => phosphor_raster::Interpolation::Incremental,
+        })
+    }
 }
 
 /// PNG encoding of the linear framebuffer.
@@ -181,6 +235,9 @@ pub struct RenderArgs {
     /// PNG encoding (overrides the scene file; EXR is always linear).
     #[arg(long, value_enum, value_name = "srgb|linear")]
     pub encoding: Option<EncodingArg>,
+    /// Variants of fast-phong, gouraud and phong.
+    #[command(flatten)]
+    pub variants: VariantArgs,
     /// Print the frame plan (per object: mode, effects simulated, lights kept) to stdout.
     #[arg(long)]
     pub plan: bool,
@@ -221,6 +278,10 @@ pub struct AccuracyArgs {
     /// Write each mode's image and error heat-map here as PNG (created if missing).
     #[arg(long, value_name = "DIR")]
     pub out_dir: Option<PathBuf>,
+    /// Variants measured: with a flag, only that variant of its modes; without, every variant
+    /// gets a row of its own.
+    #[command(flatten)]
+    pub variants: VariantArgs,
     /// Frames timed per mode (the median is reported).
     #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,
@@ -255,6 +316,9 @@ pub struct BenchArgs {
     /// Worker threads; 0 = all cores; at most 4 per core (overrides the scene file).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
+    /// Variants of fast-phong, gouraud and phong.
+    #[command(flatten)]
+    pub variants: VariantArgs,
     /// Timed frames per mode (after one untimed warm-up frame).
     #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,

@@ -3,13 +3,17 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-const MODES: [&str; 8] = [
+const MODES: [&str; 12] = [
     "flat",
     "gouraud",
+    "gouraud (unclamped)",
     "gouraud (screen-space)",
-    "fast-phong",
+    "gouraud (incremental)",
+    "fast-phong (taylor)",
+    "fast-phong (fit)",
     "phong",
     "phong (screen-space)",
+    "phong (incremental)",
     "auto",
     "reference",
 ];

@@ -32,6 +32,8 @@ phosphor-viewer keys:
   B                    toggle bump mapping
   P                    toggle perspective-correct interpolation
   A                    anti-aliasing of the still picture: off, ssaa4, ssaa16 (samples per pixel)
+  T                    fast-phong: Taylor expansion (Bishop and Weimer 1986) / six-point fit
+  I                    gouraud, phong: plane / incremental scan line (Gouraud 1971)
   R                    reset the view
   C                    print the camera as a scene file's [camera] block (paste it into a scene)
   S                    save a screenshot (PNG) beside the scene file (current folder for --mesh)
@@ -76,6 +78,10 @@ pub enum Action {
     TogglePerspective,
     /// Switch anti-aliasing to the next choice (off, ssaa4, ssaa16).
     CycleAntialias,
+    /// Switch fast Phong between the Taylor expansion and the six-point fit.
+    ToggleFastPhong,
+    /// Switch gouraud and phong between plane and incremental interpolation.
+    ToggleInterpolation,
     /// Back to the scene's camera.
     ResetView,
     /// Print the current camera as a scene file's `[camera]` block.
@@ -126,6 +132,8 @@ pub fn key_action(code: KeyCode, shift: bool) -> Option<Action> {
         KeyCode::KeyB => Some(Action::ToggleBump),
         KeyCode::KeyP => Some(Action::TogglePerspective),
         KeyCode::KeyA => Some(Action::CycleAntialias),
+        KeyCode::KeyT => Some(Action::ToggleFastPhong),
+        KeyCode::KeyI => Some(Action::ToggleInterpolation),
         KeyCode::KeyR => Some(Action::ResetView),
         KeyCode::KeyC => Some(Action::PrintCamera),
         KeyCode::KeyS => Some(Action::Screenshot),
@@ -391,6 +399,15 @@ mod tests {
         assert_eq!(key_action(KeyCode::KeyS, false), Some(Action::Screenshot));
         let listed = |key: &str| KEY_HELP.lines().any(|l| l.trim_start().starts_with(key));
         assert!(listed("C ") && listed("S "), "{KEY_HELP}");
+        assert!(listed("T ") && listed("I "), "{KEY_HELP}");
+        assert_eq!(
+            key_action(KeyCode::KeyT, false),
+            Some(Action::ToggleFastPhong)
+        );
+        assert_eq!(
+            key_action(KeyCode::KeyI, false),
+            Some(Action::ToggleInterpolation)
+        );
     }
 
     #[test]

@@ -25,7 +25,9 @@ use phosphor_lighting::Light;
 use phosphor_output::image::{Transfer, write_png};
 use phosphor_output::{memory, term};
 use phosphor_raster::encode::Encoder;
-use phosphor_raster::{Antialias, Camera, Encoding, Framebuffer, ShadingMode};
+use phosphor_raster::{
+    Antialias, Camera, Encoding, FastPhongMethod, Framebuffer, Interpolation, ShadingMode,
+};
 use phosphor_scene::view::camera_toml;
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
 
@@ -43,7 +45,7 @@ const MAX_SIDE: u32 = 16_384;
     name = "phosphor-viewer",
     version,
     about = "Real-time viewer for Phosphor scenes (CPU scan-line rasterizer)",
-    after_help = "Examples:\n  phosphor-viewer\n  phosphor-viewer assets/scenes/s1.toml\n  phosphor-viewer --mesh assets/meshes/teapot.obj --size 1280x720\n  phosphor-viewer --frames 10 --screenshot shot.png\n  phosphor-viewer assets/scenes/s1.toml --shading phong --size 1280x720 --frames 100\n  phosphor-viewer --mesh cube.obj --azimuth 45 --elevation 30\n  phosphor-viewer assets/scenes/s1.toml --eye 2,1,3 --fov 30\n\nKeys: C prints the camera as a [camera] block for a scene file, S saves a screenshot beside it.\nIn --frames mode the viewer prints `frames=N mean_ms=X fps=Y triangles=T` when it exits.\nPress H in the window for the key list."
+    after_help = "Examples:\n  phosphor-viewer\n  phosphor-viewer assets/scenes/s1.toml\n  phosphor-viewer --mesh assets/meshes/teapot.obj --size 1280x720\n  phosphor-viewer --frames 10 --screenshot shot.png\n  phosphor-viewer assets/scenes/s1.toml --shading phong --size 1280x720 --frames 100\n  phosphor-viewer --mesh cube.obj --azimuth 45 --elevation 30\n  phosphor-viewer assets/scenes/s1.toml --eye 2,1,3 --fov 30\n\nKeys: C prints the camera as a [camera] block for a scene file, S saves a screenshot beside it,\nT switches fast-phong between taylor (Bishop and Weimer 1986) and fit, I switches gouraud and\nphong between plane and incremental (Gouraud 1971) interpolation; the title shows both.\nIn --frames mode the viewer prints `frames=N mean_ms=X fps=Y triangles=T` when it exits.\nPress H in the window for the key list."
 )]
 struct Args {
     /// Scene file (TOML); the embedded default scene when absent.
@@ -177,6 +179,8 @@ struct Viewer {
     fixed_frames: bool,
     /// The anti-aliasing the last frame was drawn with.
     last_antialias: Antialias,
+    fast_phong: FastPhongMethod,
+    interpolation: Interpolation,
     fb: Option<Framebuffer>,
     /// `--force` for the screenshot.
     force: bool,
@@ -201,6 +205,8 @@ impl Viewer {
             refine_next: false,
             fixed_frames: false,
             last_antialias: Antialias::Off,
+            fast_phong: scene.settings.fast_phong,
+            interpolation: scene.settings.interpolation,
             scene,
             home,
             shading: None,
@@ -260,6 +266,8 @@ impl View for Viewer {
             perspective_correct: Some(self.perspective_correct),
             threads: 0,
             antialias: Some(self.frame_antialias()),
+            fast_phong: Some(self.fast_phong),
+            interpolation: Some(self.interpolation),
             ..FrameOptions::default()
         };
         let report = render_frame(&self.scene, &mut fb, &opts);
@@ -290,7 +298,7 @@ impl View for Viewer {
             .shading
             .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
         format!(
-            "Phosphor | {mode}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            "Phosphor | {mode}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
             if self.last_antialias == Antialias::Off {
                 String::new()
             } else {
@@ -301,6 +309,17 @@ impl View for Viewer {
                 ""
             } else {
                 " | screen-space"
+            },
+            // The methods are named only where they differ from the defaults.
+            if self.fast_phong == FastPhongMethod::default() {
+                String::new()
+            } else {
+                format!(" | fast-phong {}", self.fast_phong)
+            },
+            if self.interpolation == Interpolation::default() {
+                String::new()
+            } else {
+                format!(" | {} interpolation", self.interpolation)
             },
             self.last_ms,
             self.fps,
@@ -375,6 +394,20 @@ impl View for Viewer {
                         term::warn(&format!("{next} not used: {e}"));
                     }
                 }
+                true
+            }
+            Action::ToggleFastPhong => {
+                self.fast_phong = match self.fast_phong {
+                    FastPhongMethod::Taylor => FastPhongMethod::Fit,
+                    FastPhongMethod::Fit => FastPhongMethod::Taylor,
+                };
+                true
+            }
+            Action::ToggleInterpolation => {
+                self.interpolation = match self.interpolation {
+                    Interpolation::Plane => Interpolation::Incremental,
+                    Interpolation::Incremental => Interpolation::Plane,
+                };
                 true
             }
             Action::ResetView => {

@@ -17,8 +17,9 @@
 //! [`RenderOptions::perspective_correct`] off they are stepped linearly in screen space, the
 //! classic approximation of interpolating in two dimensions (Gouraud 1971, Phong 1975).
 //!
-//! Shading modes ([`ShadingMode`]): `flat`, `gouraud`, `phong`, `fast-phong` (quadratic fit
-//! with a per-triangle fallback to `phong`) and `reference` (f64, exact). See [`shade`] for the
+//! Shading modes ([`ShadingMode`]): `flat`, `gouraud`, `phong`, `fast-phong` (a quadratic per
+//! triangle, Bishop and Weimer 1986's Taylor expansion or a six-point fit,
+//! [`RenderOptions::fast_phong`], with a per-triangle fallback to `phong`) and `reference` (f64, exact). See [`shade`] for the
 //! effect specializations and [`bump`] for bump mapping. Every colour written is checked
 //! finite (debug) and clamped to `[0, 1]`.
 //!
@@ -84,6 +85,7 @@ pub use encode::Encoding;
 pub use framebuffer::{Framebuffer, RasterError};
 pub use render::{coverage_counts, render, render_fill_only};
 pub use shade::fast_phong::FAST_PHONG_TOLERANCE;
+pub use shade::taylor::MAX_TAYLOR_LIGHTS;
 
 /// The shading modes; names as used by the CLI and scene files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -94,7 +96,8 @@ pub enum ShadingMode {
     Gouraud,
     /// Normals and positions interpolated, full model per pixel.
     Phong,
-    /// Quadratic polynomials per triangle by forward differences; falls back to `phong`.
+    /// Quadratic polynomials per triangle by forward differences ([`FastPhongMethod`]: Bishop
+    /// and Weimer 1986's Taylor expansion, or a six-point fit); falls back to `phong`.
     FastPhong,
     /// f64, exact, per pixel: the ground truth.
     Reference,
@@ -144,6 +147,109 @@ impl FromStr for ShadingMode {
     }
 }
 
+/// How `fast-phong` builds the quadratic it steps across a triangle. Both fall back to exact
+/// `phong` per triangle when their check points show more than [`FAST_PHONG_TOLERANCE`]
+/// (counted in [`RenderStats::fallbacks`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum FastPhongMethod {
+    /// Bishop and Weimer 1986: the diffuse term `(ax + by + c) / (dx^2 + exy + fy^2 + gx +
+    /// hy + i)^(1/2)` and each light's specular cosine expanded in a Taylor series to second
+    /// degree about the triangle's centroid (`T5 x^2 + T4 xy + T3 y^2 + T2 x + T1 y + T0`),
+    /// the specular raised to the shininess per pixel. Light directions, attenuation and the
+    /// viewer are taken at the centroid. Its set-up is tried on every triangle, so it is the
+    /// slower method on meshes of small triangles.
+    Taylor,
+    /// A quadratic interpolating the exact terms at the three vertices and the three edge
+    /// midpoints (only on triangles of at least `MIN_FIT_AREA_PX` pixels). The default: on
+    /// S1 it is as accurate as `phong` and many times faster than `Taylor`.
+    #[default]
+    Fit,
+}
+
+impl FastPhongMethod {
+    /// Both methods, the default first.
+    pub const ALL: [FastPhongMethod; 2] = [FastPhongMethod::Fit, FastPhongMethod::Taylor];
+
+    /// The method's name: `taylor` or `fit`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            FastPhongMethod::Taylor => "taylor",
+            FastPhongMethod::Fit => "fit",
+        }
+    }
+}
+
+impl fmt::Display for FastPhongMethod {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An unknown fast-Phong method name.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown fast-phong method '{0}' (expected taylor or fit)")]
+pub struct UnknownFastPhongMethod(pub String);
+
+impl FromStr for FastPhongMethod {
+    type Err = UnknownFastPhongMethod;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        FastPhongMethod::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| UnknownFastPhongMethod(s.to_string()))
+    }
+}
+
+/// How `gouraud` and `phong` carry their attributes across a triangle. Coverage and depth are
+/// the same under both; `flat`, `fast-phong` and `reference` ignore it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Interpolation {
+    /// Every attribute plane evaluated afresh (in `f64`) at each span start, then stepped
+    /// along the span: no error accumulates down a tall triangle.
+    #[default]
+    Plane,
+    /// The classic incremental scan line (Gouraud 1971): edge values stepped from one scan
+    /// line to the next by constant increments, spans stepped per pixel, all in `f32`. Its
+    /// rounding error accumulates (see `docs/numerical-stability.md`).
+    Incremental,
+}
+
+impl Interpolation {
+    /// Both, the default first.
+    pub const ALL: [Interpolation; 2] = [Interpolation::Plane, Interpolation::Incremental];
+
+    /// The name: `plane` or `incremental`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Interpolation::Plane => "plane",
+            Interpolation::Incremental => "incremental",
+        }
+    }
+}
+
+impl fmt::Display for Interpolation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// An unknown interpolation name.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown interpolation '{0}' (expected plane or incremental)")]
+pub struct UnknownInterpolation(pub String);
+
+impl FromStr for Interpolation {
+    type Err = UnknownInterpolation;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Interpolation::ALL
+            .into_iter()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| UnknownInterpolation(s.to_string()))
+    }
+}
+
 /// Borrowed mesh data for one draw (all per-vertex slices as long as `positions`).
 #[derive(Debug, Clone, Copy)]
 pub struct MeshView<'a> {
@@ -182,7 +288,9 @@ pub struct DrawItem<'a> {
     pub cull_backfaces: bool,
 }
 
-/// Frame-wide options.
+/// Frame-wide options. The variants of the approximate modes ([`RenderOptions::fast_phong`],
+/// [`RenderOptions::interpolation`]) live here rather than in [`ShadingMode`]: they change how
+/// a mode computes, not what it computes, and every draw of a frame uses the same.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderOptions {
     /// Worker threads; 0 = all cores. The picture does not depend on it.
@@ -200,6 +308,12 @@ pub struct RenderOptions {
     /// what is interpolated is what each vertex shows, see `docs/conventions.md`); false
     /// interpolates the model's values as Gouraud 1971 writes them and clamps only the pixel.
     pub gouraud_vertex_clamp: bool,
+    /// How `fast-phong` makes its per-triangle polynomials (default: the six-point fit; or
+    /// Bishop and Weimer 1986's Taylor expansion).
+    pub fast_phong: FastPhongMethod,
+    /// How `gouraud` and `phong` interpolate their attributes across a triangle (default:
+    /// planes evaluated at each span start).
+    pub interpolation: Interpolation,
 }
 
 impl Default for RenderOptions {
@@ -211,6 +325,8 @@ impl Default for RenderOptions {
             background: Vec3::ZERO,
             antialias: Antialias::Off,
             gouraud_vertex_clamp: true,
+            fast_phong: FastPhongMethod::Fit,
+            interpolation: Interpolation::Plane,
         }
     }
 }

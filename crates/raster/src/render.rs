@@ -15,10 +15,11 @@ use crate::setup::{ScreenPos, ScreenVertex, row_range, screen_area2, to_screen};
 use crate::shade::fast_phong::FastPhong;
 use crate::shade::flat::{FillOnly, Flat};
 use crate::shade::gouraud::Gouraud;
+use crate::shade::incremental::Incremental;
 use crate::shade::phong::Phong;
 use crate::shade::reference::Reference;
 use crate::shade::{Lit, Mode, VertexIn, effective_material};
-use crate::{Camera, DrawItem, RenderOptions, RenderStats, ShadingMode};
+use crate::{Camera, DrawItem, Interpolation, RenderOptions, RenderStats, ShadingMode};
 
 /// Renders `draws` seen by `camera` into `fb` (cleared to `opts.background` first).
 ///
@@ -133,6 +134,7 @@ fn shade_draw(
     if wants_bump && bump.is_none() {
         stats.bump_ignored += 1;
     }
+    let incremental = opts.interpolation == Interpolation::Incremental;
     let lit = Lit {
         set: d.lights,
         mat: effective_material(d.material, d.effects),
@@ -142,17 +144,27 @@ fn shade_draw(
         (ShadingMode::Flat, _) => {
             crate::with_fx!(d.effects, FX => run(fb, vp, d, &Flat::<FX> { lit }, opts, stats, false))
         }
+        (ShadingMode::Gouraud, _) if incremental => {
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Incremental { inner: Gouraud::<FX> { lit, vertex_clamp: opts.gouraud_vertex_clamp } }, opts, stats, false))
+        }
         (ShadingMode::Gouraud, _) => {
             crate::with_fx!(d.effects, FX => run(fb, vp, d, &Gouraud::<FX> { lit, vertex_clamp: opts.gouraud_vertex_clamp }, opts, stats, false))
         }
+        (ShadingMode::Phong, Some(map)) if incremental => {
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Incremental { inner: Phong::<FX, true> { lit, bump: Some(map) } }, opts, stats, false))
+        }
         (ShadingMode::Phong | ShadingMode::FastPhong, Some(map)) => {
             crate::with_fx!(d.effects, FX => run(fb, vp, d, &Phong::<FX, true> { lit, bump: Some(map) }, opts, stats, false))
+        }
+        (ShadingMode::Phong, None) if incremental => {
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Incremental { inner: Phong::<FX, false> { lit, bump: None } }, opts, stats, false))
         }
         (ShadingMode::Phong, None) => {
             crate::with_fx!(d.effects, FX => run(fb, vp, d, &Phong::<FX, false> { lit, bump: None }, opts, stats, false))
         }
         (ShadingMode::FastPhong, None) => {
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &FastPhong::<FX> { lit }, opts, stats, false))
+            let method = opts.fast_phong;
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &FastPhong::<FX> { lit, method }, opts, stats, false))
         }
         (ShadingMode::Reference, _) => {
             let mut mat = lit.mat;

@@ -51,7 +51,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 use hecs::{Entity, World};
 use phosphor_lighting::Light;
-use phosphor_raster::{Antialias, Camera, Encoding};
+use phosphor_raster::{Antialias, Camera, Encoding, FastPhongMethod, Interpolation};
 
 pub mod budget;
 pub mod builtin;
@@ -101,6 +101,12 @@ pub struct RenderSettings {
     /// `gouraud` clamps vertex intensities to 1 before interpolating (`gouraud_clamp`, on
     /// unless set; see [`phosphor_raster::RenderOptions::gouraud_vertex_clamp`]).
     pub gouraud_vertex_clamp: bool,
+    /// How `fast-phong` makes its quadratics (`fast_phong = "fit" | "taylor"`, fit unless
+    /// set).
+    pub fast_phong: FastPhongMethod,
+    /// How `gouraud` and `phong` interpolate (`interpolation = "plane" | "incremental"`, plane
+    /// unless set).
+    pub interpolation: Interpolation,
 }
 
 /// Back-face culling of a scene (`[render] cull_backfaces`).
@@ -129,6 +135,8 @@ impl Default for RenderSettings {
             cull_backfaces: CullChoice::Auto,
             antialias: Antialias::Off,
             gouraud_vertex_clamp: true,
+            fast_phong: FastPhongMethod::Fit,
+            interpolation: Interpolation::Plane,
         }
     }
 }

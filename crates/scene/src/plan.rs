@@ -90,6 +90,10 @@ pub struct FrameOptions {
     pub antialias: Option<Antialias>,
     /// Overrides the scene's `gouraud_clamp`.
     pub gouraud_vertex_clamp: Option<bool>,
+    /// Overrides the scene's `fast_phong` (`--fast-phong`).
+    pub fast_phong: Option<phosphor_raster::FastPhongMethod>,
+    /// Overrides the scene's `interpolation` (`--interpolation`).
+    pub interpolation: Option<phosphor_raster::Interpolation>,
 }
 
 impl Default for FrameOptions {
@@ -101,6 +105,8 @@ impl Default for FrameOptions {
             threads: 0,
             antialias: None,
             gouraud_vertex_clamp: None,
+            fast_phong: None,
+            interpolation: None,
         }
     }
 }

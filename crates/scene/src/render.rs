@@ -63,6 +63,8 @@ pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
         gouraud_vertex_clamp: opts
             .gouraud_vertex_clamp
             .unwrap_or(scene.settings.gouraud_vertex_clamp),
+        fast_phong: opts.fast_phong.unwrap_or(scene.settings.fast_phong),
+        interpolation: opts.interpolation.unwrap_or(scene.settings.interpolation),
     }
 }
 

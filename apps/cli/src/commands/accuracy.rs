@@ -5,8 +5,9 @@
 //! (`MODE.png`, encoded as the scene says), its error heat-map (`MODE-error.png`, false colour with
 //! a labelled scale bar; none for the reference, whose map would be black) and `error-vs-time.png`.
 //!
-//! The fixed-mode rows force perspective-correct interpolation on or off so their labels hold
-//! whatever the scene file says; `auto` is the scene as it asks to be drawn (per object, the
+//! The fixed-mode rows force perspective-correct interpolation on or off, the fast-Phong method
+//! (`taylor`, Bishop and Weimer 1986; `fit`, six points) and the interpolation (`plane`, or
+//! Gouraud 1971's `incremental` scan line) so their labels hold whatever the scene file says; `auto` is the scene as it asks to be drawn (per object, the
 //! plan's choice of mode, the scene's own interpolation setting).
 //!
 //! The last two columns are the Mach-band measure of [`crate::mach`]: the mean jump across the
@@ -18,7 +19,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use phosphor_math::glam::Vec3;
-use phosphor_raster::{Framebuffer, ShadingMode};
+use phosphor_raster::{FastPhongMethod, Framebuffer, Interpolation, ShadingMode};
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
 
 use super::{framebuffer, size_field};
@@ -56,6 +57,12 @@ struct Row {
     shading: ShadingChoice,
     /// Perspective-correct interpolation: forced on or off, or the scene's.
     perspective_correct: Option<bool>,
+    /// Fast Phong's method: forced, or the scene's (or the flag's).
+    fast_phong: Option<FastPhongMethod>,
+    /// Interpolation of gouraud and phong: forced, or the scene's (or the flag's).
+    interpolation: Option<Interpolation>,
+    /// Gouraud's vertex clamp: forced, or the scene's.
+    gouraud_clamp: Option<bool>,
 }
 
 const fn fixed(label: &'static str, mode: ShadingMode, correct: bool) -> Row {
@@ -64,31 +71,80 @@ const fn fixed(label: &'static str, mode: ShadingMode, correct: bool) -> Row {
         file: label,
         shading: ShadingChoice::Mode(mode),
         perspective_correct: Some(correct),
+        fast_phong: Some(FastPhongMethod::Taylor),
+        interpolation: Some(Interpolation::Plane),
+        gouraud_clamp: Some(true),
     }
 }
 
 /// The rows in table order (the reference last, though it renders first).
-const ROWS: [Row; 8] = [
+const ROWS: [Row; 12] = [
     fixed("flat", ShadingMode::Flat, true),
     fixed("gouraud", ShadingMode::Gouraud, true),
+    Row {
+        file: "gouraud-unclamped",
+        gouraud_clamp: Some(false),
+        ..fixed("gouraud (unclamped)", ShadingMode::Gouraud, true)
+    },
     Row {
         file: "gouraud-screen-space",
         ..fixed("gouraud (screen-space)", ShadingMode::Gouraud, false)
     },
-    fixed("fast-phong", ShadingMode::FastPhong, true),
+    Row {
+        file: "gouraud-incremental",
+        interpolation: Some(Interpolation::Incremental),
+        ..fixed("gouraud (incremental)", ShadingMode::Gouraud, true)
+    },
+    Row {
+        file: "fast-phong-taylor",
+        ..fixed("fast-phong (taylor)", ShadingMode::FastPhong, true)
+    },
+    Row {
+        file: "fast-phong-fit",
+        fast_phong: Some(FastPhongMethod::Fit),
+        ..fixed("fast-phong (fit)", ShadingMode::FastPhong, true)
+    },
     fixed("phong", ShadingMode::Phong, true),
     Row {
         file: "phong-screen-space",
         ..fixed("phong (screen-space)", ShadingMode::Phong, false)
     },
     Row {
+        file: "phong-incremental",
+        interpolation: Some(Interpolation::Incremental),
+        ..fixed("phong (incremental)", ShadingMode::Phong, true)
+    },
+    Row {
         label: "auto",
         file: "auto",
         shading: ShadingChoice::Auto,
         perspective_correct: None,
+        fast_phong: None,
+        interpolation: None,
+        gouraud_clamp: None,
     },
     fixed("reference", ShadingMode::Reference, true),
 ];
+
+/// The rows `--fast-phong` and `--interpolation` keep: a row forcing another variant of a mode
+/// the flag names is left out; `auto` takes the flags as overrides.
+fn rows(args: &AccuracyArgs) -> Vec<Row> {
+    let (fast, interp) = (args.variants.fast_phong(), args.variants.interpolation());
+    ROWS.into_iter()
+        .filter(|r| {
+            let uses_fast = r.mode() == Some(ShadingMode::FastPhong);
+            let uses_interp = matches!(r.mode(), Some(ShadingMode::Gouraud | ShadingMode::Phong));
+            let other_fast = uses_fast && fast.is_some() && r.fast_phong != fast;
+            let other_interp = uses_interp && interp.is_some() && r.interpolation != interp;
+            !other_fast && !other_interp
+        })
+        .map(|r| Row {
+            fast_phong: r.fast_phong.or(fast),
+            interpolation: r.interpolation.or(interp),
+            ..r
+        })
+        .collect()
+}
 
 /// A row once measured.
 struct Measured {
@@ -123,6 +179,9 @@ fn options(row: Row) -> FrameOptions {
         shading: Some(row.shading),
         perspective_correct: row.perspective_correct,
         threads: 0,
+        fast_phong: row.fast_phong,
+        interpolation: row.interpolation,
+        gouraud_vertex_clamp: row.gouraud_clamp,
         ..FrameOptions::default()
     }
 }
@@ -304,7 +363,8 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     };
     let progress = Progress::start("measuring");
     // One untimed and `frames` timed frames per row (fewer for a slow reference).
-    let rows = ROWS.len() as u32;
+    let table = rows(args);
+    let rows = table.len() as u32;
     let mut frames = Frames {
         progress: &progress,
         done: 0,
@@ -346,8 +406,8 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         Ok((jumps.mean, jumps.mean / base))
     };
 
-    let mut measured = Vec::with_capacity(ROWS.len());
-    for row in ROWS {
+    let mut measured = Vec::with_capacity(table.len());
+    for row in table {
         if row.label == reference_row.label {
             let stats = compare(&reference, &reference)
                 .ok_or_else(|| CliError::Input("the reference frame is empty".to_owned()))?;
@@ -460,8 +520,8 @@ mod tests {
     fn rows_cover_every_mode_once_with_distinct_files_and_reference_last() {
         for mode in ShadingMode::ALL {
             assert!(
-                ROWS.iter()
-                    .any(|r| r.shading == ShadingChoice::Mode(mode) && r.label == mode.name()),
+                ROWS.iter().any(|r| r.shading == ShadingChoice::Mode(mode)
+                    && (r.label == mode.name() || r.label.starts_with(mode.name()))),
                 "{mode:?}"
             );
         }
@@ -471,5 +531,21 @@ mod tests {
         assert_eq!(files.len(), ROWS.len());
         assert_eq!(ROWS[ROWS.len() - 1].label, "reference");
         assert!(ROWS.iter().any(|r| r.shading == ShadingChoice::Auto));
+        // Every variant of fast-phong and of the interpolation has a row.
+        for method in FastPhongMethod::ALL {
+            assert!(
+                ROWS.iter()
+                    .any(|r| r.fast_phong == Some(method)
+                        && r.mode() == Some(ShadingMode::FastPhong))
+            );
+        }
+        for mode in [ShadingMode::Gouraud, ShadingMode::Phong] {
+            for interpolation in Interpolation::ALL {
+                assert!(
+                    ROWS.iter()
+                        .any(|r| r.mode() == Some(mode) && r.interpolation == Some(interpolation))
+                );
+            }
+        }
     }
 }

@@ -44,6 +44,8 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
         let opts = FrameOptions {
             shading: Some(choice),
             threads,
+            fast_phong: args.variants.fast_phong(),
+            interpolation: args.variants.interpolation(),
             ..FrameOptions::default()
         };
         render_frame(&scene, &mut fb, &opts); // warm-up: caches, thread pool, tables

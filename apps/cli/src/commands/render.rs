@@ -47,6 +47,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let opts = FrameOptions {
         shading: args.shading.map(shading_choice),
         threads: threads(args.threads),
+        fast_phong: args.variants.fast_phong(),
+        interpolation: args.variants.interpolation(),
         ..FrameOptions::default()
     };
     let encoding = match args.encoding {

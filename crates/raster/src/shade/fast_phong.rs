@@ -1,8 +1,9 @@
 //! `fast-phong`: per triangle, the diffuse and the specular sums each become a quadratic
 //! polynomial in screen x and y, evaluated along the span by forward differences (two adds
-//! per channel per polynomial). Bishop & Weimer 1986 expand the model in a Taylor series;
-//! here, as in Barrera, Hast & Bengtsson 2006 ("Fast near Phong-quality software shading"),
-//! the quadratic interpolates the exact terms (`shade_split`, perspective-correct point and
+//! per channel per polynomial). Two ways to make the quadratic ([`FastPhongMethod`]): Bishop
+//! and Weimer 1986's Taylor expansion (see [`super::taylor`]), or the six-point fit of this
+//! module (the default). For the fit, as in Barrera, Hast & Bengtsson 2006 ("Fast near
+//! Phong-quality software shading"), the quadratic interpolates the exact terms (`shade_split`, perspective-correct point and
 //! normal) at the three vertices and the three edge midpoints. The fit is then checked
 //! against exact shading at the centroid and at the centroids of the three corner
 //! sub-triangles; when the largest error of the clamped total exceeds
@@ -17,7 +18,9 @@ use glam::{DVec2, Vec3};
 use phosphor_lighting::{ShadeTerms, lobe_sharpness, shade_split, specular_upper_bound};
 
 use super::phong::Phong;
+use super::taylor::{TaylorKernel, TaylorTri};
 use super::{Lit, Mode, VertexIn, surface_attrs};
+use crate::FastPhongMethod;
 use crate::clip::Attrs;
 use crate::framebuffer::clamp_color;
 use crate::scanline::{BandTarget, Kernel, traverse};
@@ -50,6 +53,8 @@ pub const MIN_FIT_AREA_PX: f64 = 128.0;
 pub struct FastPhong<'a, const FX: u32> {
     /// Lights, material, viewer.
     pub lit: Lit<'a>,
+    /// Taylor expansion or six-point fit.
+    pub method: FastPhongMethod,
 }
 
 /// A quadratic in the screen barycentrics: values at the vertices and the edge midpoints
@@ -104,6 +109,8 @@ impl PolyTri {
 pub enum FastTri {
     /// The polynomial fits: forward differences.
     Poly(Box<PolyTri>),
+    /// The Taylor expansion holds: forward differences.
+    Taylor(Box<TaylorTri>),
     /// It does not: exact per-pixel Phong for this triangle.
     Phong,
     /// Too small to be worth a fit ([`MIN_FIT_AREA_PX`]): exact per-pixel Phong.
@@ -302,10 +309,14 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
         surface_attrs(v)
     }
     const READS_VERTICES: bool = false;
-    // Only triangles of MIN_FIT_AREA_PX or more get here: a few hundred on S1.
+    // With the fit only triangles of MIN_FIT_AREA_PX or more get here: a few hundred on S1.
     const SCREEN_PER_TRIANGLE: bool = true;
     #[inline]
     fn triangle_from_positions(&self, p: &[ScreenPos; 3]) -> Option<FastTri> {
+        if self.method == FastPhongMethod::Taylor {
+            // The Taylor set-up is tried on every triangle.
+            return None;
+        }
         // The area first: most triangles of a dense mesh stop here, before their vertices
         // are fetched. Twice the area in 1/256 pixel units, exact in integers.
         let area2 = screen_area2(p).unsigned_abs() as f64;
@@ -318,6 +329,14 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
         screen: [&ScreenVertex; 3],
         perspective: bool,
     ) -> FastTri {
+        if self.method == FastPhongMethod::Taylor {
+            let geom = FitTri::new(screen, perspective);
+            return match super::taylor::build::<FX>(&self.lit, &geom.v, |l| Self::surface(&geom, l))
+            {
+                Some(t) => FastTri::Taylor(Box::new(t)),
+                None => FastTri::Phong,
+            };
+        }
         // The same test as `triangle_from_positions`, for clipped triangles.
         let [a, b, c] = screen.map(|v| DVec2::new(v.x, v.y));
         if (b - a).perp_dot(c - a).abs() * 0.5 < MIN_FIT_AREA_PX {
@@ -332,6 +351,7 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
     fn draw(&self, t: &RasterTri, tri: &FastTri, target: &mut BandTarget) -> u64 {
         match tri {
             FastTri::Poly(p) => traverse(t, &PolyKernel, &**p, target),
+            FastTri::Taylor(p) => traverse(t, &TaylorKernel, &**p, target),
             FastTri::Phong | FastTri::Small => traverse(t, &self.phong(), &(), target),
         }
     }
@@ -346,7 +366,7 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
         self.phong().shade4(attrs, count)
     }
     fn by_pixel(tri: &FastTri) -> bool {
-        !matches!(tri, FastTri::Poly(_))
+        !matches!(tri, FastTri::Poly(_) | FastTri::Taylor(_))
     }
     fn is_fallback(tri: &FastTri) -> bool {
         matches!(tri, FastTri::Phong)

@@ -1,5 +1,8 @@
 //! `gouraud`: the model at the vertices (their averaged normals), intensities interpolated
 //! (Gouraud 1971: `I4 = (y4 - y2)/(y1 - y2) I1 + (y1 - y4)/(y1 - y2) I2`, then `Ip` along the span).
+//! By default the intensity plane is evaluated at each span start; with
+//! [`crate::Interpolation::Incremental`] the values are stepped per scan line and per pixel as
+//! Gouraud 1971 does ([`crate::shade::incremental`]).
 
 use glam::Vec3;
 use phosphor_lighting::{Vec3x4, shade, shade_x4};

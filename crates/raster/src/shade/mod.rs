@@ -22,8 +22,10 @@ use crate::setup::{RasterTri, ScreenPos, ScreenVertex};
 pub mod fast_phong;
 pub mod flat;
 pub mod gouraud;
+pub mod incremental;
 pub mod phong;
 pub mod reference;
+pub mod taylor;
 
 /// One mesh vertex in world space, as the vertex stage hands it to a mode.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -5,3 +5,4 @@ mod coverage;
 mod interpolation;
 mod modes;
 mod support;
+mod variants;

@@ -206,6 +206,20 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
     if let Some(c) = r.bool("gouraud_clamp")? {
         s.gouraud_vertex_clamp = c;
     }
+    if let Some(m) = r.str("fast_phong")? {
+        s.fast_phong = m
+            .parse()
+            .map_err(|e: phosphor_raster::UnknownFastPhongMethod| {
+                r.error("fast_phong", e.to_string())
+            })?;
+    }
+    if let Some(m) = r.str("interpolation")? {
+        s.interpolation = m
+            .parse()
+            .map_err(|e: phosphor_raster::UnknownInterpolation| {
+                r.error("interpolation", e.to_string())
+            })?;
+    }
     r.finish(&[
         "aa",
         "gouraud_clamp",
@@ -216,6 +230,8 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
         "background",
         "perspective_correct",
         "cull_backfaces",
+        "fast_phong",
+        "interpolation",
     ])?;
     Ok(s)
 }

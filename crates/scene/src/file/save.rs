@@ -62,6 +62,8 @@ fn render_table(r: &RenderSettings) -> Table {
         "gouraud_clamp".into(),
         Value::Boolean(r.gouraud_vertex_clamp),
     );
+    t.insert("fast_phong".into(), s(r.fast_phong.name()));
+    t.insert("interpolation".into(), s(r.interpolation.name()));
     t
 }
 
