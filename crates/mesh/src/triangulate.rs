@@ -8,7 +8,7 @@
 //! Two passes, by size. Up to [`MAX_EAR_CLIPPED`] corners, each candidate ear is tested against
 //! every remaining corner and the walk stays on the corner after a clipped ear. Larger polygons
 //! test a candidate only against the corners that are not strictly convex (in a simple polygon,
-//! an ear that holds any corner holds one of those), found through a uniform grid, and take
+//! an ear that holds any corner holds one of those), found through a k-d tree, and take
 //! candidates from a work queue: a corner that fails is tested again only when a neighbour is
 //! clipped (its ear changed) or when the corner found inside its ear is clipped, and the
 //! neighbours of a clipped ear go to the back of the queue, so a lap clips every other corner.
@@ -22,7 +22,7 @@ use std::collections::VecDeque;
 use glam::{DVec2, DVec3, Vec3};
 
 /// Largest polygon clipped by the exhaustive pass (every candidate ear tested against every
-/// remaining corner, cubic in the worst case); larger ones take the grid-indexed pass.
+/// remaining corner, cubic in the worst case); larger ones take the indexed pass.
 pub const MAX_EAR_CLIPPED: usize = 32;
 
 /// Triangulates the polygon `points` (in order, any winding); returns corner indices into
@@ -143,70 +143,145 @@ fn exhaustive(q: &[DVec2]) -> Vec<[usize; 3]> {
     out
 }
 
-/// A uniform grid over the polygon's bounding box holding the corners that may block an ear.
-struct Grid {
-    lo: DVec2,
-    inv_cell: DVec2,
-    columns: usize,
-    rows: usize,
-    cells: Vec<Vec<u32>>,
+/// A k-d tree over every corner, counting per node the *active* corners: those that may block
+/// an ear (not strictly convex when indexed, not yet clipped). Nodes without active corners
+/// are skipped, so a query costs about the tree's depth plus the active corners near the ear,
+/// whether the corners fill an area or lie along a curve.
+struct Blockers {
+    /// Corner ids, permuted so that each node covers a contiguous range.
+    order: Vec<u32>,
+    nodes: Vec<Node>,
+    /// The leaf holding each corner.
+    leaf_of: Vec<u32>,
+    active: Vec<bool>,
 }
 
-impl Grid {
-    fn new(q: &[DVec2], expected: usize) -> Grid {
-        let (lo, hi) = q
-            .iter()
-            .fold((q[0], q[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
-        let size = (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
-        // About one expected corner per cell, cells as square as the box allows.
-        let target = expected.clamp(1, 1 << 20) as f64;
-        let aspect = (size.x / size.y).clamp(1.0 / target, target);
-        let columns = ((target * aspect).sqrt().round() as usize).clamp(1, 1 << 20);
-        let rows = ((target / columns as f64).round() as usize).clamp(1, 1 << 20);
-        let inv_cell = DVec2::new(columns as f64 / size.x, rows as f64 / size.y);
-        let inv_cell = DVec2::select(inv_cell.is_finite_mask(), inv_cell, DVec2::ZERO);
-        Grid {
-            lo,
-            inv_cell,
-            columns,
-            rows,
-            cells: vec![Vec::new(); columns * rows],
+/// A node of [`Blockers`]: the bounds of its corners and its active count.
+struct Node {
+    lo: DVec2,
+    hi: DVec2,
+    start: u32,
+    end: u32,
+    /// Children, `NONE` for a leaf.
+    children: [u32; 2],
+    parent: u32,
+    active: u32,
+}
+
+const NONE: u32 = u32::MAX;
+
+/// Corners per leaf.
+const LEAF: usize = 8;
+
+impl Blockers {
+    fn new(q: &[DVec2]) -> Blockers {
+        let mut tree = Blockers {
+            order: (0..q.len() as u32).collect(),
+            nodes: Vec::with_capacity(q.len() / 2 + 1),
+            leaf_of: vec![NONE; q.len()],
+            active: vec![false; q.len()],
+        };
+        // Explicit stack: (start, end, parent, slot in the parent's children).
+        let mut stack = vec![(0usize, q.len(), NONE, 0usize)];
+        while let Some((start, end, parent, slot)) = stack.pop() {
+            let range = &mut tree.order[start..end];
+            let (lo, hi) = range.iter().fold(
+                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                |(lo, hi), &j| (lo.min(q[j as usize]), hi.max(q[j as usize])),
+            );
+            let id = tree.nodes.len() as u32;
+            if parent != NONE {
+                tree.nodes[parent as usize].children[slot] = id;
+            }
+            let mut node = Node {
+                lo,
+                hi,
+                start: start as u32,
+                end: end as u32,
+                children: [NONE; 2],
+                parent,
+                active: 0,
+            };
+            if end - start <= LEAF {
+                for &j in range.iter() {
+                    tree.leaf_of[j as usize] = id;
+                }
+            } else {
+                // Split at the median of the longer side.
+                let axis = usize::from(hi.y - lo.y > hi.x - lo.x);
+                let mid = (end - start) / 2;
+                range.select_nth_unstable_by(mid, |&a, &b| {
+                    q[a as usize][axis].total_cmp(&q[b as usize][axis])
+                });
+                stack.push((start + mid, end, id, 1));
+                stack.push((start, start + mid, id, 0));
+                node.children = [0, 0];
+            }
+            tree.nodes.push(node);
+        }
+        tree
+    }
+
+    /// Adds `j` to or removes it from the active corners.
+    fn set_active(&mut self, j: usize, on: bool) {
+        if self.active[j] == on {
+            return;
+        }
+        self.active[j] = on;
+        let mut n = self.leaf_of[j];
+        while n != NONE {
+            let node = &mut self.nodes[n as usize];
+            node.active = if on { node.active + 1 } else { node.active - 1 };
+            n = node.parent;
         }
     }
 
-    /// Column and row of `p`, clamped into the grid (NaN lands in cell 0).
-    fn cell(&self, p: DVec2) -> (usize, usize) {
-        let c = (p - self.lo) * self.inv_cell;
-        let clamp = |v: f64, top: usize| {
-            if v >= 1.0 {
-                (v as usize).min(top - 1)
-            } else {
-                0
+    /// An active corner other than the ear's own inside or on the ear `[a, b, c]`, if any;
+    /// `stack` is scratch space.
+    fn blocker(&self, q: &[DVec2], ear: [usize; 3], stack: &mut Vec<u32>) -> Option<usize> {
+        let [a, b, c] = ear.map(|i| q[i]);
+        let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+        stack.clear();
+        stack.push(0);
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n as usize];
+            if node.active == 0
+                || node.lo.x > hi.x
+                || node.lo.y > hi.y
+                || node.hi.x < lo.x
+                || node.hi.y < lo.y
+            {
+                continue;
             }
-        };
-        (clamp(c.x, self.columns), clamp(c.y, self.rows))
-    }
-
-    fn insert(&mut self, p: DVec2, corner: u32) {
-        let (x, y) = self.cell(p);
-        self.cells[y * self.columns + x].push(corner);
+            if node.children[0] == NONE {
+                let range = &self.order[node.start as usize..node.end as usize];
+                for &j in range {
+                    let j = j as usize;
+                    if self.active[j] && !ear.contains(&j) && inside_or_on(a, b, c, q[j]) {
+                        return Some(j);
+                    }
+                }
+            } else {
+                stack.extend(node.children);
+            }
+        }
+        None
     }
 }
 
-/// Ear clipping for large polygons: candidates tested against the grid of corners that were
-/// not strictly convex, in a work queue (see the module docs).
+/// Ear clipping for large polygons: candidates tested against the corners that were not
+/// strictly convex, found through a k-d tree, in a work queue (see the module docs).
 fn indexed(q: &[DVec2]) -> Vec<[usize; 3]> {
     let n = q.len();
     let mut next: Vec<usize> = (1..=n).map(|i| i % n).collect();
     let mut prev: Vec<usize> = (0..n).map(|i| (i + n - 1) % n).collect();
     let mut removed = vec![false; n];
-    let mut indexed = vec![false; n];
     let turn = |prev: &[usize], next: &[usize], j: usize| cross(q[prev[j]], q[j], q[next[j]]);
-    let reflex: Vec<usize> = (0..n).filter(|&j| turn(&prev, &next, j) <= 0.0).collect();
-    let mut grid = Grid::new(q, reflex.len());
-    for &j in &reflex {
-        grid.insert(q[j], j as u32);
-        indexed[j] = true;
+    let mut blockers = Blockers::new(q);
+    for j in 0..n {
+        if turn(&prev, &next, j) <= 0.0 {
+            blockers.set_active(j, true);
+        }
     }
     // Candidates in file order; an entry is stale once its corner is queued again.
     let mut stamp = vec![0u32; n];
@@ -217,6 +292,7 @@ fn indexed(q: &[DVec2]) -> Vec<[usize; 3]> {
         stamp[j] = stamp[j].wrapping_add(1);
         queue.push_back((j, stamp[j]));
     }
+    let mut scratch = Vec::new();
     let mut out = Vec::with_capacity(n - 2);
     let mut left = n;
     let mut alive = 0usize;
@@ -241,21 +317,21 @@ fn indexed(q: &[DVec2]) -> Vec<[usize; 3]> {
             // Tested again when a neighbour is clipped, the only change that can make it convex.
             continue;
         }
-        if let Some(j) = blocker(&mut grid, q, &removed, [ia, ear, ic]) {
+        if let Some(j) = blockers.blocker(q, [ia, ear, ic], &mut scratch) {
             waiting[j].push(ear as u32);
             continue;
         }
         out.push([ia, ear, ic]);
         removed[ear] = true;
+        blockers.set_active(ear, false);
         next[ia] = ic;
         prev[ic] = ia;
         left -= 1;
         alive = ia;
         for j in [ia, ic] {
             // A neighbour whose turn is no longer strictly convex may now block an ear.
-            if !indexed[j] && turn(&prev, &next, j) <= 0.0 {
-                grid.insert(q[j], j as u32);
-                indexed[j] = true;
+            if turn(&prev, &next, j) <= 0.0 {
+                blockers.set_active(j, true);
             }
             // Queued at the back, so a lap clips every other corner rather than a fan.
             requeue(&mut queue, &mut stamp, j);
@@ -268,32 +344,6 @@ fn indexed(q: &[DVec2]) -> Vec<[usize; 3]> {
     }
     out.push([prev[alive], alive, next[alive]]);
     out
-}
-
-/// A remaining indexed corner other than the ear's own inside or on the ear `[a, b, c]`, if
-/// any. Removed corners met in the cells are dropped from the grid for good.
-fn blocker(grid: &mut Grid, q: &[DVec2], removed: &[bool], ear: [usize; 3]) -> Option<usize> {
-    let [a, b, c] = ear.map(|i| q[i]);
-    let (x0, y0) = grid.cell(a.min(b).min(c));
-    let (x1, y1) = grid.cell(a.max(b).max(c));
-    for y in y0..=y1 {
-        for x in x0..=x1 {
-            let cell = &mut grid.cells[y * grid.columns + x];
-            let mut k = 0;
-            while k < cell.len() {
-                let j = cell[k] as usize;
-                if removed[j] {
-                    cell.swap_remove(k);
-                    continue;
-                }
-                k += 1;
-                if !ear.contains(&j) && inside_or_on(a, b, c, q[j]) {
-                    return Some(j);
-                }
-            }
-        }
-    }
-    None
 }
 
 #[cfg(test)]
