@@ -209,21 +209,25 @@ fn layout(header: &Header, file: &str) -> Result<Layout, MeshError> {
     })
 }
 
-/// Where the reader is, for messages: the element, and its line in an ASCII file.
-struct Place {
-    element: String,
+/// Where the reader is, for messages: the element (`face 7 of 40`, named only when an error
+/// needs it: a label per element would cost more than reading it), and its line in an ASCII
+/// file.
+struct Place<'a> {
+    def: &'a ElementDef,
+    index: usize,
     line: Option<usize>,
 }
 
-impl Place {
+impl Place<'_> {
     fn error(&self, file: &str, what: impl Into<String>) -> MeshError {
+        let element = format!("{} {} of {}", self.def.name, self.index + 1, self.def.count);
         match self.line {
             Some(line) => MeshError::Parse {
                 file: file.to_owned(),
                 line,
-                what: format!("{}: {}", self.element, what.into()),
+                what: format!("{element}: {}", what.into()),
             },
-            None => element_error(file, self.element.clone(), what),
+            None => element_error(file, element, what),
         }
     }
 }
@@ -259,14 +263,13 @@ struct Payload<'a> {
 
 impl Payload<'_> {
     /// Element `index` of `def`, and where it was.
-    fn read<E: PropertyAccess>(
+    fn read<'d, E: PropertyAccess>(
         &mut self,
         parser: &Parser<E>,
-        def: &ElementDef,
+        def: &'d ElementDef,
         index: usize,
         file: &str,
-    ) -> Result<(E, Place), MeshError> {
-        let element = format!("{} {} of {}", def.name, index + 1, def.count);
+    ) -> Result<(E, Place<'d>), MeshError> {
         match self.encoding {
             Encoding::Ascii => {
                 // Blank lines between elements are tolerated (some writers end with one).
@@ -274,7 +277,8 @@ impl Payload<'_> {
                     let Some(end) = self.rest.iter().position(|&b| b == b'\n') else {
                         if self.rest.iter().all(u8::is_ascii_whitespace) {
                             let place = Place {
-                                element,
+                                def,
+                                index,
                                 line: Some(self.line),
                             };
                             return Err(place.error(file, "the file ends before it (truncated)"));
@@ -296,7 +300,8 @@ impl Payload<'_> {
                 let (raw, rest) = self.rest.split_at(end);
                 self.rest = rest;
                 let place = Place {
-                    element,
+                    def,
+                    index,
                     line: Some(self.line),
                 };
                 self.line += 1;
@@ -312,7 +317,8 @@ impl Payload<'_> {
             }
             Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
                 let place = Place {
-                    element,
+                    def,
+                    index,
                     line: None,
                 };
                 let value = if self.encoding == Encoding::BinaryLittleEndian {
@@ -381,7 +387,9 @@ pub(super) fn parse(
 
     let mut positions: Vec<Vec3> = Vec::with_capacity(layout.vertices.min(1 << 20));
     let mut normals: Vec<Vec3> = Vec::new();
-    let mut faces: Vec<Vec<u32>> = Vec::new();
+    // Faces flat: `corners[face_starts[f]..face_starts[f + 1]]`.
+    let mut corners: Vec<u32> = Vec::new();
+    let mut face_starts: Vec<usize> = vec![0];
     let mut short_faces = 0usize;
     let (vertex_parser, face_parser, skip_parser) = (
         Parser::<PlyVertex>::new(),
@@ -389,6 +397,10 @@ pub(super) fn parse(
         Parser::<Skip>::new(),
     );
     for (name, def) in &header.elements {
+        if def.properties.is_empty() {
+            // Nothing to read; a huge count must not spin (the file cannot be checked).
+            continue;
+        }
         for i in 0..def.count {
             match name.as_str() {
                 "vertex" => {
@@ -408,7 +420,7 @@ pub(super) fn parse(
                 }
                 "face" => {
                     let (f, place) = payload.read(&face_parser, def, i, file)?;
-                    let mut corners = Vec::with_capacity(f.signed.len() + f.unsigned.len());
+                    let start = corners.len();
                     for c in f.corners() {
                         match u32::try_from(c) {
                             Ok(c) if (c as usize) < layout.vertices => corners.push(c),
@@ -424,10 +436,11 @@ pub(super) fn parse(
                             }
                         }
                     }
-                    if corners.len() < 3 {
+                    if corners.len() - start < 3 {
+                        corners.truncate(start);
                         short_faces += 1;
                     } else {
-                        faces.push(corners);
+                        face_starts.push(corners.len());
                     }
                 }
                 _ => {
@@ -446,15 +459,23 @@ pub(super) fn parse(
     let mut soup = TriangleSoup::default();
     let mut welder = Welder::default();
     let ids: Vec<u32> = positions.iter().map(|&p| welder.id(&mut soup, p)).collect();
-    let mut normal_ix = Vec::new();
-    for (face, corners) in faces.iter().enumerate() {
-        let points: Vec<Vec3> = corners.iter().map(|&c| positions[c as usize]).collect();
+    let mut normal_ix = Vec::with_capacity(corners.len() / 3);
+    let mut add = |soup: &mut TriangleSoup, vertex: [u32; 3], face: usize| {
+        soup.triangles.push(vertex.map(|v| ids[v as usize]));
+        normal_ix.push(vertex);
+        soup.polygon_ids.push(face as u32);
+        soup.material_ids.push(0);
+    };
+    for (face, range) in face_starts.windows(2).enumerate() {
+        let polygon = &corners[range[0]..range[1]];
+        if let [a, b, c] = *polygon {
+            // Scans are triangles: no polygon to clip.
+            add(&mut soup, [a, b, c], face);
+            continue;
+        }
+        let points: Vec<Vec3> = polygon.iter().map(|&c| positions[c as usize]).collect();
         for t in triangulate(&points) {
-            let vertex = t.map(|k| corners[k]);
-            soup.triangles.push(vertex.map(|v| ids[v as usize]));
-            normal_ix.push(vertex);
-            soup.polygon_ids.push(face as u32);
-            soup.material_ids.push(0);
+            add(&mut soup, t.map(|k| polygon[k]), face);
         }
     }
     if layout.has_normals {
