@@ -41,6 +41,13 @@ fn render(dir: &Path, aa: &str, threads: &str) -> Vec<u8> {
         out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{aa}: {}", stderr(&o));
+    let said = String::from_utf8_lossy(&o.stdout);
+    let counted = if aa == "off" {
+        "pixels shaded"
+    } else {
+        "samples shaded"
+    };
+    assert!(said.contains(counted), "{said}");
     std::fs::read(&out).unwrap()
 }
 

@@ -3,7 +3,7 @@
 
 use std::time::{Duration, Instant};
 
-use phosphor_raster::Encoding;
+use phosphor_raster::{Antialias, Encoding};
 use phosphor_scene::view::turntable_camera;
 use phosphor_scene::{FrameOptions, render_frame};
 
@@ -135,7 +135,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 Duration::ZERO
             };
             say!(
-                "rendered {} in {} (load {}, render {} = {:.0}%, save {}): {width}x{height}, {} of {} triangles drawn, {} pixels shaded{}",
+                "rendered {} in {} (load {}, render {} = {:.0}%, save {}): {width}x{height}, {} of {} triangles drawn, {} {} shaded{}",
                 out.display(),
                 ms(total),
                 ms(load),
@@ -145,6 +145,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 s.triangles_drawn,
                 s.triangles_in,
                 s.pixels_shaded,
+                // With anti-aliasing the counts are of samples, several per pixel.
+                if s.antialias == Antialias::Off {
+                    "pixels"
+                } else {
+                    "samples"
+                },
                 if s.fallbacks > 0 {
                     format!(", {} fast-phong fallbacks", s.fallbacks)
                 } else {
