@@ -48,6 +48,31 @@ pub const MAX_SMOOTH_LOBE_SHARPNESS: f32 = 1.0;
 /// accurate of the two, so this only trades speed, and it is not counted as a fallback.
 pub const MIN_FIT_AREA_PX: f64 = 128.0;
 
+/// Whether a triangle's specular highlight cannot peak between the points a method checked:
+/// its lobes are smooth over the triangle, or their upper bound stays within
+/// [`FAST_PHONG_TOLERANCE`] of `seen`, the largest specular the checks saw. `nodes` are the
+/// surface points and normals at the corners (0, 1, 2) and at the midpoints of edges 01, 12,
+/// 20 (3, 4, 5). The bound is loose on a large triangle, so where it fails it is retried on
+/// the four half-size triangles of the nodes (spreads halve).
+pub(crate) fn highlight_is_sampled<const FX: u32>(
+    lit: &Lit,
+    nodes: &[(Vec3, Vec3); 6],
+    seen: Vec3,
+) -> bool {
+    let (set, mat, eye) = (lit.set, &lit.mat, lit.eye);
+    let fits = |corners: [usize; 3]| {
+        let p = corners.map(|i| nodes[i].0);
+        let n = corners.map(|i| nodes[i].1);
+        lobe_sharpness::<FX>(set, mat, p, n, eye) <= MAX_SMOOTH_LOBE_SHARPNESS
+            || (specular_upper_bound::<FX>(set, mat, p, n, eye) - seen).max_element()
+                <= FAST_PHONG_TOLERANCE
+    };
+    fits([0, 1, 2])
+        || [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]]
+            .into_iter()
+            .all(fits)
+}
+
 /// The fast Phong mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
 pub struct FastPhong<'a, const FX: u32> {
@@ -274,23 +299,7 @@ impl<const FX: u32> FastPhong<'_, FX> {
         // fit shows nothing: refuse when such a lobe (sharpness above the limit) could rise
         // above what the samples saw. The bound is loose on a large triangle, so where it
         // fails it is retried on the four half-size triangles of the nodes (spreads halve).
-        let (set, mat, eye) = (self.lit.set, &self.lit.mat, self.lit.eye);
-        let fits = |corners: [usize; 3]| {
-            let p = corners.map(|i| surface[i].0);
-            let n = corners.map(|i| surface[i].1);
-            lobe_sharpness::<FX>(set, mat, p, n, eye) <= MAX_SMOOTH_LOBE_SHARPNESS
-                || (specular_upper_bound::<FX>(set, mat, p, n, eye) - seen).max_element()
-                    <= FAST_PHONG_TOLERANCE
-        };
-        // Nodes: 0, 1, 2 the corners, 3, 4, 5 the midpoints of edges 01, 12, 20.
-        if !fits([0, 1, 2])
-            && ![[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]]
-                .into_iter()
-                .all(fits)
-        {
-            return None;
-        }
-        Some(poly)
+        highlight_is_sampled::<FX>(&self.lit, &surface, seen).then_some(poly)
     }
 
     fn phong(&self) -> Phong<'_, FX, false> {

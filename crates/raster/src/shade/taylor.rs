@@ -31,8 +31,7 @@ use glam::{DVec2, DVec3, Vec3};
 use phosphor_lighting::attenuation::factor_from_coefficients;
 use phosphor_lighting::lightset::spot_cone;
 use phosphor_lighting::{
-    Effects, Material, PreparedPoint, SpecularModel, lobe_sharpness, shade_split, specular_lobe,
-    specular_upper_bound,
+    Effects, Material, PreparedPoint, SpecularModel, shade_split, specular_lobe,
 };
 
 use crate::clip::Attrs;
@@ -40,7 +39,7 @@ use crate::framebuffer::clamp_color;
 use crate::scanline::Kernel;
 use crate::setup::ScreenVertex;
 use crate::shade::Lit;
-use crate::shade::fast_phong::{FAST_PHONG_TOLERANCE, MAX_SMOOTH_LOBE_SHARPNESS};
+use crate::shade::fast_phong::{FAST_PHONG_TOLERANCE, highlight_is_sampled};
 
 /// The most lights with a specular polynomial of their own on one triangle; a triangle lit by
 /// more falls back to `phong` (each light costs one power per pixel, and the triangle data
@@ -409,21 +408,8 @@ pub(crate) fn build<const FX: u32>(
     }
     // A highlight narrower than the triangle can peak between the checks: the same refusal as
     // the six-point fit's (retried on the four half-size triangles when the bound is loose).
-    if specular_on {
-        let fits = |corners: [usize; 3]| {
-            let p = corners.map(|i| nodes[i].0);
-            let n = corners.map(|i| nodes[i].1);
-            lobe_sharpness::<FX>(lit.set, mat, p, n, lit.eye) <= MAX_SMOOTH_LOBE_SHARPNESS
-                || (specular_upper_bound::<FX>(lit.set, mat, p, n, lit.eye) - seen).max_element()
-                    <= FAST_PHONG_TOLERANCE
-        };
-        if !fits([0, 1, 2])
-            && ![[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]]
-                .into_iter()
-                .all(fits)
-        {
-            return None;
-        }
+    if specular_on && !highlight_is_sampled::<FX>(lit, &nodes, seen) {
+        return None;
     }
     Some(tri)
 }
