@@ -254,6 +254,23 @@ fn malformed_gltf_accessors_are_errors_not_panics() {
         "accessors[0]",
     );
     assert_error(b"{ not json", "a.gltf", "a.gltf: not a readable glTF", "");
+    // A POSITION naming an accessor that does not exist (the crate's own validation would
+    // index past its accessor list here).
+    let at = gltf.find("\"POSITION\":").expect("a POSITION attribute");
+    let digits = gltf[at + 11..]
+        .find(|c: char| !c.is_ascii_digit())
+        .expect("digits end");
+    let bad = format!(
+        "{}\"POSITION\":57{}",
+        &gltf[..at],
+        &gltf[at + 11 + digits..]
+    );
+    assert_error(
+        bad.as_bytes(),
+        "a.gltf",
+        "a.gltf: invalid glTF: meshes[0].primitives[0].attributes.POSITION: ",
+        "accessor 57 does not exist",
+    );
 }
 
 #[test]

@@ -38,6 +38,12 @@ pub(super) fn parse(
             file: file.to_owned(),
         });
     }
+    // gltf-json 1.4's validation indexes the accessor list with a primitive's POSITION index
+    // unchecked, so a file naming an accessor that does not exist would panic there: parse
+    // without validation first and refuse such indices, then parse with validation.
+    let unchecked = gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|e| invalid(file, describe(&e)))?;
+    check_attribute_accessors(unchecked.as_json(), file)?;
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| invalid(file, describe(&e)))?;
     let version = &gltf.as_json().asset.version;
     if !version.starts_with("2.") {
@@ -105,6 +111,31 @@ fn invalid(file: &str, what: impl Into<String>) -> MeshError {
 }
 
 /// The crate's error on one line; validation errors name their JSON paths (the first few).
+/// Every vertex attribute of every primitive names an accessor that exists.
+fn check_attribute_accessors(root: &gltf::json::Root, file: &str) -> Result<(), MeshError> {
+    let count = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            for (semantic, index) in &primitive.attributes {
+                if index.value() >= count {
+                    let name = match semantic {
+                        gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                        gltf::json::validation::Checked::Invalid => "?".to_owned(),
+                    };
+                    return Err(invalid(
+                        file,
+                        format!(
+                            "invalid glTF: meshes[{m}].primitives[{p}].attributes.{name}: accessor {} does not exist ({count} accessors)",
+                            index.value()
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 fn describe(e: &gltf::Error) -> String {
     match e {
         gltf::Error::Validation(list) => {
