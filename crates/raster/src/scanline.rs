@@ -205,6 +205,26 @@ fn depth_passes(depth: f64, stored: f32) -> bool {
     (depth as f32) < stored
 }
 
+/// Whether a span draws pixel `idx`: in a visible-only pass, where the id buffer holds this
+/// triangle's `id`; in the coverage-count hook never (it counts the pixel instead); otherwise
+/// where the depth test passes. One definition for the plane and the incremental spans.
+#[inline(always)]
+fn pixel_drawn<const VISIBLE: bool>(
+    target: &mut BandTarget,
+    idx: usize,
+    id: u64,
+    depth: f64,
+) -> bool {
+    if VISIBLE {
+        target.ids[idx] == id
+    } else if target.count {
+        target.color[idx].x += 1.0;
+        false
+    } else {
+        depth_passes(depth, target.depth[idx])
+    }
+}
+
 #[inline(always)]
 fn depth_stored(depth: f64) -> f32 {
     depth.max(0.0) as f32
@@ -584,14 +604,7 @@ fn span<K: Kernel, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let mut out: Attrs = [0.0; MAX_ATTRS];
     for x in x_start..x_end {
         let idx = row + x as usize;
-        let draw = if VISIBLE {
-            target.ids[idx] == id
-        } else if target.count {
-            target.color[idx].x += 1.0;
-            false
-        } else {
-            depth_passes(depth, target.depth[idx])
-        };
+        let draw = pixel_drawn::<VISIBLE>(target, idx, id, depth);
         if draw {
             let w = if PERSPECTIVE {
                 (1.0 / inv_w) as f32
@@ -788,14 +801,7 @@ fn incremental_impl<K: Kernel, const VISIBLE: bool>(
         let mut out: Attrs = [0.0; MAX_ATTRS];
         for x in xs..xe {
             let idx = row + x as usize;
-            let draw = if VISIBLE {
-                target.ids[idx] == id
-            } else if target.count {
-                target.color[idx].x += 1.0;
-                false
-            } else {
-                depth_passes(depth, target.depth[idx])
-            };
+            let draw = pixel_drawn::<VISIBLE>(target, idx, id, depth);
             if draw {
                 let w = if perspective && v[n] != 0.0 {
                     1.0 / v[n]
