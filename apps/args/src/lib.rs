@@ -268,10 +268,11 @@ mod tests {
     #[test]
     fn anti_aliasing_names_are_parsed_or_listed() {
         assert_eq!(parse_antialias("ssaa4"), Ok(Antialias::Ssaa4));
+        assert_eq!(parse_antialias("msaa4"), Ok(Antialias::Msaa4));
         assert!(
-            parse_antialias("msaa4")
+            parse_antialias("msaa8")
                 .unwrap_err()
-                .contains("off, ssaa4 or ssaa16")
+                .contains("off, msaa4, ssaa4, msaa16 or ssaa16")
         );
     }
 }

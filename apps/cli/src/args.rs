@@ -70,9 +70,10 @@ pub struct SceneSource {
     /// only where that cannot change a pixel (closed solids seen from outside).
     #[arg(long, value_enum, value_name = "auto|always|never")]
     pub cull: Option<CullArg>,
-    /// Anti-aliasing, overriding the scene's `render.aa`: `ssaa4` and `ssaa16` draw 4 or 16
-    /// samples per pixel (a 2x2 or 4x4 grid, box-filtered), at about that many times the cost.
-    #[arg(long, value_name = "off|ssaa4|ssaa16", value_parser = parse_antialias)]
+    /// Anti-aliasing, overriding the scene's `render.aa`: 4 or 16 samples per pixel (a 2x2 or
+    /// 4x4 grid, box-filtered); `msaa4`/`msaa16` shade each pixel once per triangle in the
+    /// per-pixel modes, `ssaa4`/`ssaa16` shade every sample (about 4 or 16 times the cost).
+    #[arg(long, value_name = "off|msaa4|ssaa4|msaa16|ssaa16", value_parser = parse_antialias)]
     pub aa: Option<Antialias>,
 }
 

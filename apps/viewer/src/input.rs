@@ -31,7 +31,7 @@ phosphor-viewer keys:
   F1..F8 (or shift+1..8)  toggle light 1..8 (in scene-file order)
   B                    toggle bump mapping
   P                    toggle perspective-correct interpolation
-  A                    anti-aliasing of the still picture: off, ssaa4, ssaa16 (samples per pixel)
+  A                    anti-aliasing of the still picture: off, msaa4, ssaa4, msaa16, ssaa16
   T                    fast-phong: Taylor expansion (Bishop and Weimer 1986) / six-point fit
   I                    gouraud, phong: plane / incremental scan line (Gouraud 1971)
   R                    reset the view
@@ -76,7 +76,7 @@ pub enum Action {
     ToggleBump,
     /// Toggle perspective-correct interpolation.
     TogglePerspective,
-    /// Switch anti-aliasing to the next choice (off, ssaa4, ssaa16).
+    /// Switch anti-aliasing to the next choice (off, msaa4, ssaa4, msaa16, ssaa16).
     CycleAntialias,
     /// Switch fast Phong between the Taylor expansion and the six-point fit.
     ToggleFastPhong,

@@ -61,11 +61,15 @@ struct Args {
     /// Start with this shading for every object (`auto`: the scene's own choice per object).
     #[arg(long, value_name = "MODE", value_parser = parse_shading)]
     shading: Option<ShadingChoice>,
-    /// Anti-aliasing of the still picture (default: the scene file's `aa`, else ssaa4; with
-    /// --frames, the scene file's): `ssaa4` and `ssaa16` draw 4 or 16 samples per pixel, at
-    /// about that many times the cost. Frames drawn while you move use it only if it keeps 60
-    /// frames a second. Key A switches it.
-    #[arg(long, value_name = "off|ssaa4|ssaa16", value_parser = phosphor_args::parse_antialias)]
+    /// Anti-aliasing of the still picture (default: the scene file's `aa`, else msaa4; with
+    /// --frames, the scene file's): 4 or 16 samples per pixel, `msaa` shading each pixel once
+    /// per triangle, `ssaa` every sample (about 4 or 16 times the cost). Frames drawn while
+    /// you move use it only if it keeps 60 frames a second. Key A switches it.
+    #[arg(
+        long,
+        value_name = "off|msaa4|ssaa4|msaa16|ssaa16",
+        value_parser = phosphor_args::parse_antialias
+    )]
     aa: Option<Antialias>,
     /// Draw this many frames, then exit.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
@@ -108,7 +112,7 @@ const WINDOW_BYTES_PER_PIXEL: u64 = 16 + 4;
 const MOVING_FRAME_MS: f64 = 1000.0 / 60.0;
 
 /// The still picture's anti-aliasing when neither `--aa` nor the scene file sets one.
-const DEFAULT_STILL_ANTIALIAS: Antialias = Antialias::Ssaa4;
+const DEFAULT_STILL_ANTIALIAS: Antialias = Antialias::Msaa4;
 
 /// Bytes per sample of an anti-aliased frame's sample image (RGB f32 and depth).
 const SAMPLE_BYTES: u64 = 16;

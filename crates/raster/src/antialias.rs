@@ -1,21 +1,31 @@
-//! Anti-aliasing by supersampling (SSAA): the frame is drawn at `k` times the width and the
-//! height, each sample exactly as a pixel of that larger image (the same integer edge
-//! functions and top-left rule, so coverage stays watertight at every sample), and each pixel
-//! of the output is the mean of its `k x k` samples in linear light (a box filter).
+//! Anti-aliasing by supersampling (SSAA) and multisampling (MSAA). Either way the frame is
+//! drawn into a sample image `k` times the width and the height, each sample exactly as a
+//! pixel of that larger image (the same integer edge functions and top-left rule, so coverage
+//! and depth stay watertight at every sample), and each pixel of the output is the mean of its
+//! `k x k` samples in linear light (a box filter).
+//!
+//! - **Supersampling** shades every sample: its cost grows with the pixels (about `k * k`
+//!   times).
+//! - **Multisampling** shades once per pixel and triangle: in the per-pixel modes (`phong`,
+//!   `fast-phong`) the samples of a pixel that one triangle owns are shaded together at their
+//!   centroid (the pixel centre when it owns them all, always a point inside the triangle, so
+//!   attributes are never extrapolated) and the colour is written to each of them. Only pixels
+//!   on an edge are shaded more than once, so the shading cost grows with the edges, not with
+//!   the samples; coverage and depth still cost `k * k` times. Modes that shade during
+//!   traversal (`flat`, `gouraud`, `reference`, the incremental interpolation) shade each
+//!   sample: for flat and Gouraud a sample's colour is one plane step, as cheap as its
+//!   coverage test, and `reference` is the per-sample truth the others are measured against.
 //!
 //! Every shading mode, `reference` included, sees the same samples, so an accuracy comparison
 //! between modes stays meaningful with anti-aliasing on. The resolve sums the samples of a
 //! pixel in one fixed order, so the picture is byte-identical for any thread count.
-//!
-//! Supersampling shades every sample: its cost grows with the pixels (about `k * k` times),
-//! not with the edges as multisampling's would.
 
 use std::fmt;
 use std::str::FromStr;
 
 use glam::Vec3;
 
-use crate::framebuffer::{Framebuffer, MAX_SIDE};
+use crate::framebuffer::{CLEAN_ROW, Framebuffer, MAX_SIDE, fill_rows, same_color};
 
 /// How edges are anti-aliased; names as used by the CLI and scene files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -23,23 +33,33 @@ pub enum Antialias {
     /// One sample per pixel, at its centre.
     #[default]
     Off,
-    /// 4 samples per pixel on a 2 x 2 grid.
+    /// 4 samples per pixel on a 2 x 2 grid, shaded once per pixel and triangle.
+    Msaa4,
+    /// 4 samples per pixel on a 2 x 2 grid, each shaded.
     Ssaa4,
-    /// 16 samples per pixel on a 4 x 4 grid.
+    /// 16 samples per pixel on a 4 x 4 grid, shaded once per pixel and triangle.
+    Msaa16,
+    /// 16 samples per pixel on a 4 x 4 grid, each shaded.
     Ssaa16,
 }
 
 impl Antialias {
     /// Every choice, cheapest first.
-    pub const ALL: [Antialias; 3] = [Antialias::Off, Antialias::Ssaa4, Antialias::Ssaa16];
+    pub const ALL: [Antialias; 5] = [
+        Antialias::Off,
+        Antialias::Msaa4,
+        Antialias::Ssaa4,
+        Antialias::Msaa16,
+        Antialias::Ssaa16,
+    ];
 
     /// Samples along each side of a pixel: 1, 2 or 4.
     #[must_use]
     pub const fn factor(self) -> u32 {
         match self {
             Antialias::Off => 1,
-            Antialias::Ssaa4 => 2,
-            Antialias::Ssaa16 => 4,
+            Antialias::Msaa4 | Antialias::Ssaa4 => 2,
+            Antialias::Msaa16 | Antialias::Ssaa16 => 4,
         }
     }
 
@@ -49,22 +69,33 @@ impl Antialias {
         self.factor() * self.factor()
     }
 
-    /// The name: `off`, `ssaa4`, `ssaa16`.
+    /// Whether the per-pixel modes shade once per pixel and triangle instead of once per
+    /// sample (multisampling).
+    #[must_use]
+    pub const fn multisample(self) -> bool {
+        matches!(self, Antialias::Msaa4 | Antialias::Msaa16)
+    }
+
+    /// The name: `off`, `msaa4`, `ssaa4`, `msaa16`, `ssaa16`.
     #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
             Antialias::Off => "off",
+            Antialias::Msaa4 => "msaa4",
             Antialias::Ssaa4 => "ssaa4",
+            Antialias::Msaa16 => "msaa16",
             Antialias::Ssaa16 => "ssaa16",
         }
     }
 
-    /// The next choice, wrapping (the viewer's key).
+    /// The next choice, wrapping, in the order of [`Antialias::ALL`] (the viewer's key).
     #[must_use]
     pub const fn next(self) -> Antialias {
         match self {
-            Antialias::Off => Antialias::Ssaa4,
-            Antialias::Ssaa4 => Antialias::Ssaa16,
+            Antialias::Off => Antialias::Msaa4,
+            Antialias::Msaa4 => Antialias::Ssaa4,
+            Antialias::Ssaa4 => Antialias::Msaa16,
+            Antialias::Msaa16 => Antialias::Ssaa16,
             Antialias::Ssaa16 => Antialias::Off,
         }
     }
@@ -86,7 +117,7 @@ impl fmt::Display for Antialias {
 
 /// An unknown anti-aliasing name.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown anti-aliasing '{0}' (expected off, ssaa4 or ssaa16)")]
+#[error("unknown anti-aliasing '{0}' (expected off, msaa4, ssaa4, msaa16 or ssaa16)")]
 pub struct UnknownAntialias(pub String);
 
 impl FromStr for Antialias {
@@ -104,6 +135,10 @@ impl FromStr for Antialias {
 /// over `threads` (0 = all cores); the sums run in one fixed order, so the result does not
 /// depend on the thread count.
 ///
+/// Only the pixels over samples drawn this frame are filtered: every other sample holds the
+/// clear colour and the far depth (the sample image's dirty columns say which), so such a
+/// pixel is the clear colour itself, and `out` keeps the same record of what it drew.
+///
 /// # Panics
 /// If the sizes do not match (a caller's bug, not an input error).
 pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, threads: usize) {
@@ -113,8 +148,31 @@ pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, thre
     );
     let width = out.width() as usize;
     let k = k as usize;
-    let sample_width = width * k;
-    let scale = 1.0 / (k * k) as f32;
+    let full = (0, width as u32);
+    // Per output row: the columns over drawn samples (all of them when no clear is known).
+    let clean = samples.clean;
+    let drawn: Vec<(u32, u32)> = samples
+        .dirty
+        .chunks(k)
+        .map(|rows| {
+            if clean.is_none() {
+                return full;
+            }
+            let (lo, hi) = rows
+                .iter()
+                .fold((u32::MAX, 0), |(lo, hi), &(l, h)| (lo.min(l), hi.max(h)));
+            if lo < hi {
+                (lo / k as u32, hi.div_ceil(k as u32).min(width as u32))
+            } else {
+                CLEAN_ROW
+            }
+        })
+        .collect();
+    // Per output row: the columns that may not hold `clean` now.
+    let stale: Vec<(u32, u32)> = match clean {
+        Some(bg) if same_color(out.clean, bg) && out.pending_clear.is_none() => out.dirty.clone(),
+        _ => vec![full; out.height() as usize],
+    };
     let rows_per_task = 16;
     crate::bands::for_each_chunk_pair(
         threads,
@@ -129,24 +187,70 @@ pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, thre
                 .enumerate()
             {
                 let y = y0 + dy;
-                for x in 0..width {
-                    let mut sum = Vec3::ZERO;
-                    let mut nearest = f32::INFINITY;
-                    for sy in 0..k {
-                        let row = (y * k + sy) * sample_width + x * k;
-                        for s in row..row + k {
-                            sum += samples.color[s];
-                            nearest = nearest.min(samples.depth[s]);
+                let (lo, hi) = drawn[y];
+                let (lo, hi) = (lo as usize, (hi as usize).max(lo as usize));
+                if let Some(bg) = clean {
+                    let (slo, shi) = (stale[y].0 as usize, (stale[y].1 as usize).min(width));
+                    for (a, b) in [(slo, shi.min(lo)), (slo.max(hi), shi)] {
+                        if a < b {
+                            fill_rows(&mut color[a..b], &mut depth[a..b], bg);
                         }
                     }
-                    // Samples are clamped to [0, 1], so their mean is too.
-                    color[x] = sum * scale;
-                    depth[x] = nearest;
+                }
+                if lo < hi {
+                    let rows = &samples.color[y * k * width * k..(y + 1) * k * width * k];
+                    let depths = &samples.depth[y * k * width * k..(y + 1) * k * width * k];
+                    let (color, depth) = (&mut color[lo..hi], &mut depth[lo..hi]);
+                    match k {
+                        2 => resolve_row::<2>(rows, depths, width, lo, color, depth),
+                        4 => resolve_row::<4>(rows, depths, width, lo, color, depth),
+                        _ => resolve_row::<1>(rows, depths, width, lo, color, depth),
+                    }
                 }
             }
         },
     );
-    out.mark_all_written();
+    out.clean = clean;
+    out.pending_clear = None;
+    out.dirty = drawn;
+}
+
+/// Filters output pixels `lo..lo + color.len()` of one row from its `K` rows of samples
+/// (`width * K` samples each). The sums are pairwise (the same tree for every pixel), so that
+/// `K x K` equal samples give that value back exactly.
+#[inline(always)]
+fn resolve_row<const K: usize>(
+    rows: &[Vec3],
+    depths: &[f32],
+    width: usize,
+    lo: usize,
+    color: &mut [Vec3],
+    depth: &mut [f32],
+) {
+    let stride = width * K;
+    let scale = 1.0 / (K * K) as f32;
+    for (i, (c, d)) in color.iter_mut().zip(depth.iter_mut()).enumerate() {
+        let x = (lo + i) * K;
+        let mut sums = [Vec3::ZERO; 16];
+        let mut nearest = f32::INFINITY;
+        for sy in 0..K {
+            let at = sy * stride + x;
+            for sx in 0..K {
+                sums[sy * K + sx] = rows[at + sx];
+                nearest = nearest.min(depths[at + sx]);
+            }
+        }
+        let mut n = K * K;
+        while n > 1 {
+            n /= 2;
+            for j in 0..n {
+                sums[j] = sums[2 * j] + sums[2 * j + 1];
+            }
+        }
+        // Samples are clamped to [0, 1], so their mean is too.
+        *c = sums[0] * scale;
+        *d = nearest;
+    }
 }
 
 #[cfg(test)]
@@ -161,8 +265,15 @@ mod tests {
         }
         assert_eq!(Antialias::Ssaa4.samples(), 4);
         assert_eq!(Antialias::Ssaa16.samples(), 16);
-        assert!("msaa4".parse::<Antialias>().is_err());
-        assert_eq!(Antialias::Ssaa16.next(), Antialias::Off);
+        assert_eq!(Antialias::Msaa4.samples(), 4);
+        assert!(Antialias::Msaa16.multisample() && !Antialias::Ssaa16.multisample());
+        assert!("msaa8".parse::<Antialias>().is_err());
+        // The viewer's key visits every choice once.
+        let mut a = Antialias::Off;
+        for want in Antialias::ALL.into_iter().cycle().skip(1).take(5) {
+            a = a.next();
+            assert_eq!(a, want);
+        }
     }
 
     #[test]
@@ -176,6 +287,8 @@ mod tests {
     #[test]
     fn resolve_averages_each_block_and_keeps_the_nearest_depth() {
         let mut hi = Framebuffer::new(4, 2).unwrap();
+        // Written here, not drawn: no clear colour is known to hold anywhere.
+        hi.clean = None;
         // Left output pixel: one sample of four lit; right: all four at 0.5.
         hi.color[0] = Vec3::ONE;
         hi.depth[0] = 0.25;
@@ -189,5 +302,32 @@ mod tests {
         assert_eq!(lo.pixel(1, 0), Vec3::splat(0.5));
         assert_eq!(lo.depth_at(0, 0), 0.25);
         assert_eq!(lo.depth_at(1, 0), 0.75);
+    }
+
+    #[test]
+    fn resolve_fills_undrawn_pixels_with_the_clear_and_keeps_the_record() {
+        let bg = Vec3::new(0.1, 0.2, 0.3);
+        let mut hi = Framebuffer::new(8, 4).unwrap();
+        hi.clear(bg);
+        // A draw wrote samples (2..4, 0..2), and said so in the dirty columns.
+        for y in 0..2 {
+            for x in 2..4 {
+                hi.color[y * 8 + x] = Vec3::ONE;
+                hi.depth[y * 8 + x] = 0.5;
+            }
+            hi.dirty[y] = (2, 4);
+        }
+        let mut lo = Framebuffer::new(4, 2).unwrap();
+        lo.color.fill(Vec3::splat(0.9));
+        resolve(&hi, &mut lo, 2, 1);
+        assert_eq!(lo.pixel(1, 0), Vec3::ONE);
+        assert_eq!(lo.depth_at(1, 0), 0.5);
+        // Every other pixel is the clear colour exactly, though the output held another.
+        for (x, y) in [(0, 0), (2, 0), (3, 0), (0, 1), (1, 1), (3, 1)] {
+            assert_eq!(lo.pixel(x, y), bg, "({x}, {y})");
+            assert_eq!(lo.depth_at(x, y), 1.0, "({x}, {y})");
+        }
+        assert_eq!(lo.dirty, vec![(1, 2), CLEAN_ROW]);
+        assert_eq!(lo.clean, Some(bg));
     }
 }

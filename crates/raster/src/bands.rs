@@ -16,8 +16,10 @@ use crate::scanline::{BandTarget, ByPixel, Pass, Planes, depth_only};
 use crate::setup::{RasterTri, ScreenPos, ScreenVertex};
 use crate::shade::Mode;
 
-/// Scan lines per band.
+/// Scan lines per band. A multiple of every multisampling block side (2 and 4), so that a
+/// band holds whole rows of pixels' samples.
 pub const BAND_ROWS: u32 = 16;
+const _: () = assert!(BAND_ROWS.is_multiple_of(4));
 
 /// Marks a [`TriRec`] vertex that lives in its chunk's [`Binned::extra`] (made by clipping).
 pub const EXTRA_VERTEX: u32 = 1 << 31;
@@ -310,7 +312,9 @@ thread_local! {
 /// Draws the binned triangles `chunks` (in submission order, chunk after chunk) with `mode`
 /// into `fb` over bands. The draw's per-vertex screen positions are `pos`
 /// ([`ScreenPos::NONE`] where a vertex has none) and its attributes `attrs`, `M::ATTRS` per
-/// vertex. Returns the pixels shaded.
+/// vertex. With `block > 1` the image holds samples, `block x block` per pixel, and the
+/// by-pixel pass shades each triangle once per pixel ([`ByPixel::block`]). Returns the pixels
+/// (or, multisampled, the pixel and triangle pairs) shaded.
 #[allow(
     clippy::too_many_arguments,
     reason = "one draw's inputs, passed through once"
@@ -324,6 +328,7 @@ pub fn draw_bands<M: Mode>(
     perspective: bool,
     threads: usize,
     count: bool,
+    block: u32,
 ) -> u64 {
     let width = fb.width();
     let n = M::ATTRS;
@@ -496,6 +501,7 @@ pub fn draw_bands<M: Mode>(
                     y0,
                     n,
                     perspective: perspective && n > 0,
+                    block: block as usize,
                 };
                 let shaded = pass.shade(target.color, |a, count| mode.shade4(a, count));
                 if !traced {

@@ -143,14 +143,6 @@ impl Framebuffer {
         self.pending_clear = Some(clamp_color(background));
     }
 
-    /// Marks every pixel as written (after a resolve wrote them all): no clear colour is
-    /// known to hold anywhere.
-    pub(crate) fn mark_all_written(&mut self) {
-        self.clean = None;
-        self.pending_clear = None;
-        self.dirty.fill((0, self.width));
-    }
-
     /// Drops the sample image an anti-aliased frame keeps for reuse.
     pub fn release_samples(&mut self) {
         self.samples = None;

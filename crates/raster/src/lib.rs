@@ -338,12 +338,14 @@ pub struct RenderStats {
     pub triangles_in: u64,
     /// Triangles with at least one piece set up (not clipped away, culled or degenerate).
     pub triangles_drawn: u64,
-    /// Pixels that passed the depth test and were shaded.
+    /// Shadings of pixels that passed the depth test: one per pixel without anti-aliasing,
+    /// one per sample with supersampling, and with multisampling one per pixel and triangle in
+    /// the per-pixel modes (one per sample in the others).
     pub pixels_shaded: u64,
     /// Fast-Phong triangle pieces drawn with `phong` because the fit was not good enough.
     pub fallbacks: u64,
     /// Draws whose bump map was ignored (flat/gouraud, or no uvs/tangents in the mesh).
     pub bump_ignored: u64,
-    /// The anti-aliasing the frame was drawn with; pixel counts above are then in samples.
+    /// The anti-aliasing the frame was drawn with (see [`RenderStats::pixels_shaded`]).
     pub antialias: Antialias,
 }

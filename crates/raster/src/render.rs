@@ -49,11 +49,8 @@ pub fn render(
         if let Some(mut samples) =
             reusable.or_else(|| Framebuffer::new(width, height).ok().map(Box::new))
         {
-            let one_sample = RenderOptions {
-                antialias: Antialias::Off,
-                ..*opts
-            };
-            let mut stats = render(&mut samples, camera, draws, &one_sample);
+            let block = if aa.multisample() { k } else { 1 };
+            let mut stats = render_samples(&mut samples, camera, draws, opts, block);
             resolve(&samples, fb, k, opts.threads);
             fb.samples = Some(samples);
             stats.antialias = aa;
@@ -61,14 +58,37 @@ pub fn render(
         }
     }
     fb.samples = None;
+    render_samples(fb, camera, draws, opts, 1)
+}
+
+/// Draws `draws` into `fb` as it is, a sample per pixel (`opts.antialias` is not looked at):
+/// with `block > 1`, `fb` is a multisampled sample image whose per-pixel modes shade once per
+/// `block x block` samples and triangle.
+fn render_samples(
+    fb: &mut Framebuffer,
+    camera: &Camera,
+    draws: &[DrawItem],
+    opts: &RenderOptions,
+    block: u32,
+) -> RenderStats {
     fb.defer_clear(opts.background);
     let mut stats = RenderStats::default();
     let vp = camera.view_proj(fb.width() as f32 / fb.height() as f32);
+    let out = Output::Shade { block };
     for d in draws {
-        shade_draw(fb, vp, camera.eye, d, opts, &mut stats);
+        shade_draw(fb, vp, camera.eye, d, opts, out, &mut stats);
     }
     fb.finish_clear();
     stats
+}
+
+/// What [`run`] writes.
+#[derive(Debug, Clone, Copy)]
+enum Output {
+    /// Colours and depths; `block` as in [`draw_bands`] (1: every pixel shaded).
+    Shade { block: u32 },
+    /// The coverage-count test hook (no depth test): each pixel's red channel counts.
+    Count,
 }
 
 /// Coverage and depth only, every draw in one constant colour (white): the fill-only speed
@@ -84,7 +104,15 @@ pub fn render_fill_only(
     let vp = camera.view_proj(fb.width() as f32 / fb.height() as f32);
     let mode = FillOnly { color: Vec3::ONE };
     for d in draws {
-        run(fb, vp, d, &mode, opts, &mut stats, false);
+        run(
+            fb,
+            vp,
+            d,
+            &mode,
+            opts,
+            &mut stats,
+            Output::Shade { block: 1 },
+        );
     }
     fb.finish_clear();
     stats
@@ -105,7 +133,7 @@ pub fn coverage_counts(
     let mode = FillOnly { color: Vec3::ONE };
     let mut stats = RenderStats::default();
     for d in draws {
-        run(&mut fb, vp, d, &mode, opts, &mut stats, true);
+        run(&mut fb, vp, d, &mode, opts, &mut stats, Output::Count);
     }
     Ok(fb.color.iter().map(|c| c.x as u32).collect())
 }
@@ -116,6 +144,7 @@ fn shade_draw(
     eye: Vec3,
     d: &DrawItem,
     opts: &RenderOptions,
+    out: Output,
     stats: &mut RenderStats,
 ) {
     let n = d.mesh.positions.len();
@@ -142,29 +171,29 @@ fn shade_draw(
     };
     match (d.mode, bump) {
         (ShadingMode::Flat, _) => {
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Flat::<FX> { lit }, opts, stats, false))
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Flat::<FX> { lit }, opts, stats, out))
         }
         (ShadingMode::Gouraud, _) if incremental => {
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Incremental { inner: Gouraud::<FX> { lit, vertex_clamp: opts.gouraud_vertex_clamp } }, opts, stats, false))
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Incremental { inner: Gouraud::<FX> { lit, vertex_clamp: opts.gouraud_vertex_clamp } }, opts, stats, out))
         }
         (ShadingMode::Gouraud, _) => {
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Gouraud::<FX> { lit, vertex_clamp: opts.gouraud_vertex_clamp }, opts, stats, false))
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Gouraud::<FX> { lit, vertex_clamp: opts.gouraud_vertex_clamp }, opts, stats, out))
         }
         (ShadingMode::Phong, Some(map)) if incremental => {
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Incremental { inner: Phong::<FX, true> { lit, bump: Some(map) } }, opts, stats, false))
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Incremental { inner: Phong::<FX, true> { lit, bump: Some(map) } }, opts, stats, out))
         }
         (ShadingMode::Phong | ShadingMode::FastPhong, Some(map)) => {
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Phong::<FX, true> { lit, bump: Some(map) }, opts, stats, false))
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Phong::<FX, true> { lit, bump: Some(map) }, opts, stats, out))
         }
         (ShadingMode::Phong, None) if incremental => {
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Incremental { inner: Phong::<FX, false> { lit, bump: None } }, opts, stats, false))
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Incremental { inner: Phong::<FX, false> { lit, bump: None } }, opts, stats, out))
         }
         (ShadingMode::Phong, None) => {
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Phong::<FX, false> { lit, bump: None }, opts, stats, false))
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &Phong::<FX, false> { lit, bump: None }, opts, stats, out))
         }
         (ShadingMode::FastPhong, None) => {
             let method = opts.fast_phong;
-            crate::with_fx!(d.effects, FX => run(fb, vp, d, &FastPhong::<FX> { lit, method }, opts, stats, false))
+            crate::with_fx!(d.effects, FX => run(fb, vp, d, &FastPhong::<FX> { lit, method }, opts, stats, out))
         }
         (ShadingMode::Reference, _) => {
             let mut mat = lit.mat;
@@ -180,7 +209,7 @@ fn shade_draw(
                 eye: eye.as_dvec3(),
                 bump,
             };
-            run(fb, vp, d, &mode, opts, stats, false);
+            run(fb, vp, d, &mode, opts, stats, out);
         }
     }
 }
@@ -338,7 +367,7 @@ fn run<M: Mode>(
     mode: &M,
     opts: &RenderOptions,
     stats: &mut RenderStats,
-    count: bool,
+    out: Output,
 ) {
     let (w, h) = (fb.width(), fb.height());
     let verts = vertex_stage(d, vp, opts.threads);
@@ -515,5 +544,19 @@ fn run<M: Mode>(
         stats.fallbacks += c.fallbacks;
         binned.push(c.binned);
     }
-    stats.pixels_shaded += draw_bands(fb, mode, &pos, &attrs, &binned, persp, opts.threads, count);
+    let (count, block) = match out {
+        Output::Shade { block } => (false, block),
+        Output::Count => (true, 1),
+    };
+    stats.pixels_shaded += draw_bands(
+        fb,
+        mode,
+        &pos,
+        &attrs,
+        &binned,
+        persp,
+        opts.threads,
+        count,
+        block,
+    );
 }

@@ -470,7 +470,15 @@ pub struct ByPixel<'a> {
     pub n: usize,
     /// Whether attributes are divided by `w`.
     pub perspective: bool,
+    /// Multisampling: the band holds samples, `block x block` of them per output pixel
+    /// (aligned to the band's first row), and each triangle is shaded once per block at the
+    /// centroid of the samples it owns there, and the colour written to each of them. 2 or
+    /// 4; any other value shades every sample.
+    pub block: usize,
 }
+
+/// The most samples in one multisampled pixel (a 4 x 4 grid).
+const MAX_BLOCK_SAMPLES: usize = 16;
 
 impl ByPixel<'_> {
     /// Shades the band's pixels into `color` with `shade4` (the colours of the first `count` of
@@ -480,6 +488,11 @@ impl ByPixel<'_> {
         color: &mut [Vec3],
         shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
     ) -> u64 {
+        match self.block {
+            2 => return self.shade_blocks::<2>(color, shade4),
+            4 => return self.shade_blocks::<4>(color, shade4),
+            _ => {}
+        }
         // The lane count as a constant: the stepping and the divide compile to whole vectors.
         match (self.perspective, lanes(self.n)) {
             (true, 0) => self.run::<true, 0>(color, shade4),
@@ -490,6 +503,24 @@ impl ByPixel<'_> {
             (false, 4) => self.run::<false, 4>(color, shade4),
             (false, 8) => self.run::<false, 8>(color, shade4),
             (false, _) => self.run::<false, MAX_ATTRS>(color, shade4),
+        }
+    }
+
+    /// [`ByPixel::shade`] of a multisampled band, `K x K` samples per pixel.
+    fn shade_blocks<const K: usize>(
+        &self,
+        color: &mut [Vec3],
+        shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+    ) -> u64 {
+        match (self.perspective, lanes(self.n)) {
+            (true, 0) => self.run_blocks::<true, 0, K>(color, shade4),
+            (true, 4) => self.run_blocks::<true, 4, K>(color, shade4),
+            (true, 8) => self.run_blocks::<true, 8, K>(color, shade4),
+            (true, _) => self.run_blocks::<true, MAX_ATTRS, K>(color, shade4),
+            (false, 0) => self.run_blocks::<false, 0, K>(color, shade4),
+            (false, 4) => self.run_blocks::<false, 4, K>(color, shade4),
+            (false, 8) => self.run_blocks::<false, 8, K>(color, shade4),
+            (false, _) => self.run_blocks::<false, MAX_ATTRS, K>(color, shade4),
         }
     }
 
@@ -547,6 +578,227 @@ impl ByPixel<'_> {
         }
         pending.flush_with(&shade4, color);
         shaded
+    }
+}
+
+impl ByPixel<'_> {
+    /// The planes of the triangle with id `id`, if it is shaded here (ids below the epoch
+    /// were left by earlier bands).
+    #[inline(always)]
+    fn planes_of(&self, id: u64) -> Option<&Planes> {
+        (id >= self.epoch)
+            .then(|| self.slot.get((id - self.epoch) as usize))
+            .flatten()
+            .and_then(|&s| self.planes.get(s as usize))
+    }
+
+    /// The columns of blocks in block row `by` that the depth pass wrote in any of its rows.
+    fn block_columns<const K: usize>(&self, by: usize) -> std::ops::Range<usize> {
+        let width = self.width as usize;
+        let rows = self
+            .extents
+            .get(by * K..((by + 1) * K).min(self.extents.len()));
+        let (lo, hi) = rows
+            .unwrap_or(&[])
+            .iter()
+            .fold((usize::MAX, 0), |(lo, hi), &(l, h)| {
+                let h = (h as usize).min(width);
+                if (l as usize) < h {
+                    (lo.min(l as usize), hi.max(h))
+                } else {
+                    (lo, hi)
+                }
+            });
+        if lo >= hi {
+            0..0
+        } else {
+            lo / K..hi.div_ceil(K)
+        }
+    }
+
+    /// [`ByPixel::shade`] once per `K x K` block and triangle: a block whose samples all show
+    /// one triangle is shaded at its centre, and a run of such blocks is stepped by
+    /// `K * dA/dx`; a block on an edge is shaded once for each triangle it shows, at the
+    /// centroid of that triangle's samples. Each colour is written to every sample of its
+    /// triangle in the block.
+    #[inline(always)]
+    fn run_blocks<const PERSPECTIVE: bool, const L: usize, const K: usize>(
+        &self,
+        color: &mut [Vec3],
+        shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+    ) -> u64 {
+        let kf = K as f64;
+        let width = self.width as usize;
+        let all = block_mask::<K>();
+        let mut shaded = 0;
+        let mut pending = BlockPending::new();
+        for by in 0..self.extents.len() / K {
+            let top = (self.y0 + (by * K) as i64) as f64;
+            let (mut run, mut next) = (u64::MAX, usize::MAX);
+            let (mut inv_w, mut attrs) = (1.0f64, [0.0f32; MAX_ATTRS]);
+            for bx in self.block_columns::<K>(by) {
+                let base = by * K * width + bx * K;
+                let Some(ids) = self.block_ids::<K>(base) else {
+                    continue;
+                };
+                if ids[1..K * K].iter().all(|&id| id == ids[0]) {
+                    let Some(p) = self.planes_of(ids[0]) else {
+                        continue;
+                    };
+                    if ids[0] == run && bx == next {
+                        if PERSPECTIVE {
+                            inv_w += kf * p.inv_w[1];
+                        }
+                        for j in 0..L {
+                            attrs[j] += (kf * f64::from(p.attr_dx[j])) as f32;
+                        }
+                    } else {
+                        let o = (
+                            (bx * K) as f64 + kf * 0.5 - p.origin.0,
+                            top + kf * 0.5 - p.origin.1,
+                        );
+                        (inv_w, attrs) =
+                            planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
+                        run = ids[0];
+                    }
+                    next = bx + 1;
+                    let w = if PERSPECTIVE {
+                        (1.0 / inv_w) as f32
+                    } else {
+                        1.0
+                    };
+                    pending.push::<K, L>((base, all), (&attrs, w), (width, &shade4), color);
+                    shaded += 1;
+                    continue;
+                }
+                // An edge: once per triangle shown, at the centroid of its samples.
+                run = u64::MAX;
+                for s in 0..K * K {
+                    let id = ids[s];
+                    if ids[..s].contains(&id) {
+                        continue;
+                    }
+                    let Some(p) = self.planes_of(id) else {
+                        continue;
+                    };
+                    let (mut sx, mut sy, mut count, mut mask) = (0.0, 0.0, 0.0, 0u16);
+                    for j in (s..K * K).filter(|&j| ids[j] == id) {
+                        sx += (bx * K + j % K) as f64 + 0.5;
+                        sy += (j / K) as f64 + 0.5;
+                        count += 1.0;
+                        mask |= 1 << j;
+                    }
+                    let o = (sx / count - p.origin.0, top + sy / count - p.origin.1);
+                    let (iw, a) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
+                    let w = if PERSPECTIVE { (1.0 / iw) as f32 } else { 1.0 };
+                    pending.push::<K, L>((base, mask), (&a, w), (width, &shade4), color);
+                    shaded += 1;
+                }
+            }
+        }
+        pending.flush::<K>(width, &shade4, color);
+        shaded
+    }
+
+    /// The ids of the `K x K` samples of the block whose first sample is `base` (rows, then
+    /// columns); `None` past the band's ids.
+    #[inline(always)]
+    fn block_ids<const K: usize>(&self, base: usize) -> Option<[u64; MAX_BLOCK_SAMPLES]> {
+        let mut ids = [u64::MAX; MAX_BLOCK_SAMPLES];
+        for sy in 0..K {
+            let row = base + sy * self.width as usize;
+            ids[sy * K..(sy + 1) * K].copy_from_slice(self.ids.get(row..row + K)?);
+        }
+        Some(ids)
+    }
+}
+
+/// The mask of every sample of a `K x K` block (bit `sy * K + sx`).
+#[inline(always)]
+const fn block_mask<const K: usize>() -> u16 {
+    if K * K >= 16 {
+        u16::MAX
+    } else {
+        (1 << (K * K)) - 1
+    }
+}
+
+/// Multisampled shading waiting to be done four at a time: per entry, the first sample of its
+/// block and a mask of the block's samples (bit `sy * K + sx`) that take the colour.
+struct BlockPending {
+    at: [(usize, u16); 4],
+    attrs: [Attrs; 4],
+    len: usize,
+}
+
+impl BlockPending {
+    fn new() -> BlockPending {
+        BlockPending {
+            at: [(0, 0); 4],
+            attrs: [[0.0; MAX_ATTRS]; 4],
+            len: 0,
+        }
+    }
+
+    /// Queues one shading (the first `L` of `attrs` times `w`) for the samples `at`.
+    #[inline(always)]
+    fn push<const K: usize, const L: usize>(
+        &mut self,
+        at: (usize, u16),
+        (attrs, w): (&Attrs, f32),
+        (width, shade): (usize, impl Fn(&[Attrs; 4], usize) -> [Vec3; 4]),
+        color: &mut [Vec3],
+    ) {
+        let slot = &mut self.attrs[self.len];
+        for k in 0..L {
+            slot[k] = attrs[k] * w;
+        }
+        self.at[self.len] = at;
+        self.len += 1;
+        if self.len == 4 {
+            self.flush::<K>(width, shade, color);
+        }
+    }
+
+    /// Shades the waiting entries and writes each colour to its samples.
+    #[inline(always)]
+    fn flush<const K: usize>(
+        &mut self,
+        width: usize,
+        shade: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+        color: &mut [Vec3],
+    ) {
+        if self.len == 0 {
+            return;
+        }
+        for k in self.len..4 {
+            self.attrs[k] = self.attrs[0];
+        }
+        let c = shade(&self.attrs, self.len);
+        for k in 0..self.len {
+            debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
+            let c = clamp_color(c[k]);
+            let (base, mask) = self.at[k];
+            if mask == block_mask::<K>() {
+                for sy in 0..K {
+                    let row = base + sy * width;
+                    if let Some(row) = color.get_mut(row..row + K) {
+                        row.fill(c);
+                    }
+                }
+                continue;
+            }
+            for sy in 0..K {
+                for sx in 0..K {
+                    if mask & (1 << (sy * K + sx)) != 0 {
+                        if let Some(p) = color.get_mut(base + sy * width + sx) {
+                            *p = c;
+                        }
+                    }
+                }
+            }
+        }
+        self.len = 0;
     }
 }
 

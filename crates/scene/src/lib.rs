@@ -96,7 +96,8 @@ pub struct RenderSettings {
     pub perspective_correct: bool,
     /// Which back faces to skip (`auto` unless set: only where that cannot change a pixel).
     pub cull_backfaces: CullChoice,
-    /// Anti-aliasing (`off` unless set): `ssaa4` and `ssaa16` draw 4 or 16 samples per pixel.
+    /// Anti-aliasing (`off` unless set): `msaa4`, `ssaa4`, `msaa16` and `ssaa16` draw 4 or 16
+    /// samples per pixel, multisampled or supersampled ([`phosphor_raster::antialias`]).
     pub antialias: Antialias,
     /// `gouraud` clamps vertex intensities to 1 before interpolating (`gouraud_clamp`, on
     /// unless set; see [`phosphor_raster::RenderOptions::gouraud_vertex_clamp`]).

@@ -145,9 +145,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 s.triangles_drawn,
                 s.triangles_in,
                 s.pixels_shaded,
-                // With anti-aliasing the counts are of samples, several per pixel.
+                // Supersampled, the counts are of samples; multisampled, of shadings (one per
+                // pixel and triangle in the per-pixel modes).
                 if s.antialias == Antialias::Off {
                     "pixels"
+                } else if s.antialias.multisample() {
+                    "pixel-triangle pairs"
                 } else {
                     "samples"
                 },

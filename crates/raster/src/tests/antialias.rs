@@ -1,5 +1,6 @@
-//! Supersampling through the whole pipeline: coverage stays watertight at every sample, and a
-//! resolved pixel is exactly the share of its samples a surface covers.
+//! Anti-aliasing through the whole pipeline: coverage stays watertight at every sample, a
+//! resolved pixel is exactly the share of its samples a surface covers, and multisampling
+//! shades a pixel inside a triangle once, as at its centre.
 
 use glam::{Vec3, Vec4};
 use phosphor_lighting::{Effects, Light, LightSet, Material};
@@ -44,7 +45,12 @@ fn supersampled_flat_quad_has_no_crack_and_quantized_edges() {
     let (off, _) = draw_image(size.0, size.1, &cam, &draws, &opts(Antialias::Off));
     let colour = off.pixel(20, 15);
     assert!(colour.x > 0.1);
-    for aa in [Antialias::Ssaa4, Antialias::Ssaa16] {
+    for aa in [
+        Antialias::Msaa4,
+        Antialias::Ssaa4,
+        Antialias::Msaa16,
+        Antialias::Ssaa16,
+    ] {
         let (fb, stats) = draw_image(size.0, size.1, &cam, &draws, &opts(aa));
         assert_eq!(stats.antialias, aa);
         let n = aa.samples() as f32;
@@ -72,7 +78,82 @@ fn supersampled_flat_quad_has_no_crack_and_quantized_edges() {
         // Edge pixels are partly covered: the quad's left edge at x = 5.3 covers 0.7 of
         // column 5 (the samples at 5.5 and after; with 4 x 4 at 5.375, 5.625 and 5.875).
         let left = fb.pixel(5, 15).x / colour.x;
-        let want = if aa == Antialias::Ssaa4 { 0.5 } else { 0.75 };
+        let want = if aa.factor() == 2 { 0.5 } else { 0.75 };
         assert!((left - want).abs() < 1e-4, "{aa}: {left}");
+    }
+}
+
+#[test]
+fn multisampled_phong_shades_inside_pixels_once_at_their_centre() {
+    let cam = Camera::s1();
+    let size = (40, 30);
+    let (x0, y0, x1, y1) = (5.3, 4.6, 33.7, 25.2);
+    let mut mesh = quad(&cam, size, (x0, y0, x1, y1));
+    // Normals that vary over the quad, and a point light: every pixel has its own colour.
+    mesh.normals = vec![
+        Vec3::new(-0.4, -0.3, 1.0).normalize(),
+        Vec3::new(0.4, -0.3, 1.0).normalize(),
+        Vec3::new(0.4, 0.3, 1.0).normalize(),
+        Vec3::new(-0.4, 0.3, 1.0).normalize(),
+    ];
+    let centre = unproject(&cam, size.0, size.1, 20.0, 15.0, 0.5);
+    let lights = LightSet::new(
+        Vec3::splat(0.1),
+        &[Light::point(centre + Vec3::new(0.2, 0.3, 1.0), Vec3::ONE).unwrap()],
+    );
+    let material = Material::s1();
+    let draws = [item(&mesh, &material, &lights, ShadingMode::Phong)];
+    let opts = |aa| RenderOptions {
+        antialias: aa,
+        threads: 1,
+        ..RenderOptions::default()
+    };
+    let (off, off_stats) = draw_image(size.0, size.1, &cam, &draws, &opts(Antialias::Off));
+    for aa in [Antialias::Msaa4, Antialias::Msaa16] {
+        let (fb, stats) = draw_image(size.0, size.1, &cam, &draws, &opts(aa));
+        let k = f64::from(aa.factor());
+        let mut edge_pixels = 0;
+        for y in 0..size.1 {
+            for x in 0..size.0 {
+                // Whether the pixel's samples are all inside, all outside, or split.
+                let xs = (0..aa.factor()).map(|s| f64::from(x) + (f64::from(s) + 0.5) / k);
+                let ys = (0..aa.factor()).map(|s| f64::from(y) + (f64::from(s) + 0.5) / k);
+                let inside_x = xs.clone().all(|v| v > x0 && v < x1);
+                let inside_y = ys.clone().all(|v| v > y0 && v < y1);
+                // Which side of the shared diagonal, (x0, y1) to (x1, y0), each sample is on.
+                let side = |sx: f64, sy: f64| (x1 - x0) * (sy - y1) - (y0 - y1) * (sx - x0) > 0.0;
+                let sides: Vec<bool> = ys
+                    .clone()
+                    .flat_map(|sy| xs.clone().map(move |sx| side(sx, sy)))
+                    .collect();
+                let one_triangle = sides.iter().all(|&s| s == sides[0]);
+                let outside =
+                    xs.clone().all(|v| v < x0 || v > x1) || ys.clone().all(|v| v < y0 || v > y1);
+                if inside_x && inside_y && one_triangle {
+                    // One shading at the pixel centre, as with one sample per pixel: the same
+                    // colour to a quarter of a code (the vertices snap to 1/256 of a sample,
+                    // not of a pixel, so not bit for bit; a shading a quarter pixel off the
+                    // centre would differ by more near the highlight).
+                    let (a, b) = (fb.pixel(x, y), off.pixel(x, y));
+                    assert!(
+                        (a - b).abs().max_element() < 1e-3,
+                        "{aa} ({x}, {y}) {a} {b}"
+                    );
+                } else if !outside {
+                    edge_pixels += 1;
+                }
+            }
+        }
+        // Pixels inside are shaded once (twice where the diagonal splits them), pixels on the
+        // edge once per triangle: far fewer shadings than samples.
+        let samples = u64::from(aa.samples());
+        assert!(stats.pixels_shaded >= off_stats.pixels_shaded);
+        assert!(
+            stats.pixels_shaded <= off_stats.pixels_shaded + 2 * (edge_pixels + 2 * 40),
+            "{aa}: {} shadings, {} pixels, {edge_pixels} on edges",
+            stats.pixels_shaded,
+            off_stats.pixels_shaded
+        );
+        assert!(stats.pixels_shaded < off_stats.pixels_shaded * samples / 2);
     }
 }
