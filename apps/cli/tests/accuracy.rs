@@ -127,6 +127,31 @@ fn assert_report(out: &Output, dir: &Path) -> String {
     let plot = dir.join("error-vs-time.png");
     let bytes = std::fs::read(&plot).expect("the plot is written");
     assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "the plot is a PNG");
+    // The lecture notes' timing claims, each beside the measured ratios of every row of its
+    // mode, per frame and per shaded pixel.
+    for (mode, claim) in [
+        ("fast-phong (taylor)", "2x"),
+        ("fast-phong (fit)", "2x"),
+        ("phong", "6-7x"),
+        ("phong (screen-space)", "6-7x"),
+        ("phong (incremental)", "6-7x"),
+    ] {
+        let line = stdout
+            .lines()
+            .find(|l| {
+                let words = l.split_whitespace().collect::<Vec<_>>().join(" ");
+                words.starts_with(&format!("{mode} claimed {claim} "))
+            })
+            .unwrap_or_else(|| panic!("no claim line for {mode} in\n{stdout}"));
+        let (_, measured) = line.split_once(" measured ").expect("measured ratios");
+        let ratios: Vec<f64> = measured
+            .split_whitespace()
+            .filter_map(|w| w.strip_suffix('x')?.parse().ok())
+            .collect();
+        // Per frame and per shaded pixel.
+        assert_eq!(ratios.len(), 2, "{line}");
+        assert!(ratios.iter().all(|r| *r > 0.0 && r.is_finite()), "{line}");
+    }
     stdout
 }
 

@@ -155,6 +155,8 @@ struct Measured {
     stats: ErrorStats,
     /// The Mach-band measure: mean jump across interior edges, and its ratio to the reference's.
     mach: (f64, f64),
+    /// Pixels shaded per frame (every pixel written, in the one-pass modes).
+    pixels: u64,
 }
 
 impl Row {
@@ -167,11 +169,16 @@ impl Row {
     }
 }
 
-/// Renders one untimed frame of `row` into `fb` and returns a copy of its colours.
-fn render_image(scene: &Scene, fb: &mut Framebuffer, row: Row) -> (Vec<Vec3>, Duration) {
+/// Renders one untimed frame of `row` into `fb` and returns a copy of its colours, the time
+/// it took and the pixels it shaded.
+fn render_image(scene: &Scene, fb: &mut Framebuffer, row: Row) -> (Vec<Vec3>, Duration, u64) {
     let start = Instant::now();
-    render_frame(scene, fb, &options(row));
-    (fb.color().to_vec(), start.elapsed())
+    let report = render_frame(scene, fb, &options(row));
+    (
+        fb.color().to_vec(),
+        start.elapsed(),
+        report.stats.pixels_shaded,
+    )
 }
 
 fn options(row: Row) -> FrameOptions {
@@ -334,6 +341,38 @@ fn print_table(rows: &[Measured], gouraud_ms: f64) {
     }
 }
 
+/// The lecture notes' timing claims, each beside the measured ratio to `gouraud` per frame
+/// and per shaded pixel.
+const CLAIMS: [(ShadingMode, &str); 2] = [
+    (ShadingMode::FastPhong, "2x (twice as long as Gouraud)"),
+    (ShadingMode::Phong, "6-7x (six to seven times Gouraud)"),
+];
+
+/// Prints [`CLAIMS`] beside every row of their modes: milliseconds per frame, and per shaded
+/// pixel (the frame's time over its pixels shaded), each as a multiple of `gouraud`'s.
+fn print_claims(rows: &[Measured]) {
+    let Some(g) = rows.iter().find(|m| m.row.label == "gouraud") else {
+        return;
+    };
+    let per_pixel = |m: &Measured| m.ms / m.pixels.max(1) as f64;
+    say!(
+        "timing claims of the lecture notes against this run, as multiples of gouraud ({:.1} ms, {} pixels shaded):",
+        g.ms,
+        g.pixels
+    );
+    for (mode, claim) in CLAIMS {
+        for m in rows.iter().filter(|m| m.row.mode() == Some(mode)) {
+            say!(
+                "  {:<22}  claimed {:<34}  measured {:>7} per frame, {:>7} per shaded pixel",
+                m.row.label,
+                claim,
+                ratio_cell(m.ms / g.ms),
+                ratio_cell(per_pixel(m) / per_pixel(g))
+            );
+        }
+    }
+}
+
 /// Runs `phosphor accuracy`.
 pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let (scene, width, height) = crate::view::prepare(&args.source, &args.camera, args.size)?;
@@ -373,7 +412,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
 
     // The reference first: its untimed frame is what every mode is compared with.
     let reference_row = ROWS[ROWS.len() - 1];
-    let (reference, first_time) = render_image(&scene, &mut fb, reference_row);
+    let (reference, first_time, reference_pixels) = render_image(&scene, &mut fb, reference_row);
     frames.tick();
     save(&fb, reference_row)?;
     let reference_frames = reference_frames(args.frames, first_time);
@@ -417,10 +456,11 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
                 ms: reference_ms,
                 stats,
                 mach,
+                pixels: reference_pixels,
             });
             continue;
         }
-        let (image, _) = render_image(&scene, &mut fb, row);
+        let (image, _, pixels) = render_image(&scene, &mut fb, row);
         frames.tick();
         save(&fb, row)?;
         let stats = compare(&image, &reference)
@@ -438,6 +478,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             ms,
             stats,
             mach,
+            pixels,
         });
     }
     progress.finish();
@@ -463,6 +504,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         .find(|m| m.row.label == "gouraud")
         .map_or(0.0, |m| m.ms);
     print_table(&measured, gouraud_ms);
+    print_claims(&measured);
     let [(_, value), (_, slope)] = &reference_mach;
     say!(
         "mach: mean jump across {} interior edges ({} pixel pairs) of the value (flat, codes) or the one-pixel slope (others, codes/px); mach/ref: against reference's {} (value) and {} (slope){}",
