@@ -2,9 +2,9 @@
 //!
 //! The pipeline per draw: vertex stage (model, view, projection with glam's right-handed
 //! look-at and OpenGL perspective), homogeneous clipping against the near plane and a guard
-//! band ([`clip`]), perspective divide, viewport and 1/256-pixel snapping ([`setup`]), optional
+//! band (`clip`), perspective divide, viewport and 1/256-pixel snapping (`setup`), optional
 //! back-face culling, then traversal by scan line and span over each triangle's bounding box
-//! ([`scanline`], integer edge functions) in horizontal bands in parallel ([`bands`]) with a
+//! (`scanline`, integer edge functions) in horizontal bands in parallel (`bands`) with a
 //! z-buffer (depth in `[0, 1]`, less-than test, the far plane not drawn). Per-pixel modes draw a
 //! band in two passes, depth first, so each pixel is shaded once, and shade four pixels at a
 //! time (`phosphor_lighting::shade_x4`, bit-identical to the scalar model).
@@ -19,9 +19,10 @@
 //!
 //! Shading modes ([`ShadingMode`]): `flat`, `gouraud`, `phong`, `fast-phong` (a quadratic per
 //! triangle, Bishop and Weimer 1986's Taylor expansion or a six-point fit,
-//! [`RenderOptions::fast_phong`], with a per-triangle fallback to `phong`) and `reference` (f64, exact). See [`shade`] for the
-//! effect specializations and [`bump`] for bump mapping. Every colour written is checked
-//! finite (debug) and clamped to `[0, 1]`.
+//! [`RenderOptions::fast_phong`], with a per-triangle fallback to `phong`) and `reference`
+//! (f64, exact). The stage modules named above are internal; `docs/architecture.md` describes
+//! them. [`bump`] holds bump mapping. Every colour written is checked finite (debug) and
+//! clamped to `[0, 1]`.
 //!
 //! ```
 //! use glam::{Mat4, Vec3};
@@ -64,16 +65,16 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use phosphor_lighting::{Effects, LightSet, Material};
 
 pub mod antialias;
-pub mod bands;
+pub(crate) mod bands;
 pub mod bump;
 pub mod camera;
-pub mod clip;
+pub(crate) mod clip;
 pub mod encode;
 pub mod framebuffer;
 mod render;
-pub mod scanline;
-pub mod setup;
-pub mod shade;
+pub(crate) mod scanline;
+pub(crate) mod setup;
+pub(crate) mod shade;
 
 #[cfg(test)]
 mod tests;

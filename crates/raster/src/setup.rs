@@ -78,7 +78,8 @@ impl ScreenPos {
     }
 }
 
-/// `ceil(a / b)` for `b > 0`, exact in integers.
+/// `ceil(a / b)` for `b > 0`, exact in integers (the tests' reference for the row rounding).
+#[cfg(test)]
 #[inline]
 #[must_use]
 pub fn ceil_div(a: i64, b: i64) -> i64 {
@@ -224,7 +225,9 @@ impl RasterTri {
     }
 
     /// The triangle through `v` with the first `n` attributes; `None` for zero area. The
-    /// winding does not matter (culling is the caller's).
+    /// winding does not matter (culling is the caller's). The tests' constructor; the
+    /// renderer reuses one triangle ([`RasterTri::set`]).
+    #[cfg(test)]
     #[must_use]
     pub fn new(v: [&ScreenVertex; 3], n: usize, perspective: bool) -> Option<RasterTri> {
         let mut t = RasterTri::empty();

@@ -148,6 +148,7 @@ pub struct TaylorSpan {
     cosine: [[f64; 3]; MAX_TAYLOR_LIGHTS],
 }
 
+#[cfg(test)]
 impl TaylorSpan {
     /// The diffuse polynomials' current values.
     #[must_use]

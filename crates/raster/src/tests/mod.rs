@@ -4,5 +4,6 @@ mod antialias;
 mod coverage;
 mod interpolation;
 mod modes;
+mod stability;
 mod support;
 mod variants;

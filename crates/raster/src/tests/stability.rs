@@ -4,17 +4,13 @@
 //! `docs/numerical-stability.md`:
 //!
 //! ```text
-//! cargo test -p phosphor-raster --test stability -- --nocapture
+//! cargo test -p phosphor-raster --lib stability -- --nocapture
 //! ```
 
-#![allow(clippy::unwrap_used, reason = "test data is fixed")]
-
+use crate::clip::{Attrs, MAX_ATTRS};
+use crate::scanline::{BandTarget, IncrementalTri, Kernel, traverse, traverse_incremental};
+use crate::setup::{RasterTri, ScreenVertex};
 use glam::Vec3;
-use phosphor_raster::clip::{Attrs, MAX_ATTRS};
-use phosphor_raster::scanline::{
-    BandTarget, IncrementalTri, Kernel, traverse, traverse_incremental,
-};
-use phosphor_raster::setup::{RasterTri, ScreenVertex};
 
 /// Writes the three interpolated attributes as the colour.
 struct Passthrough;
