@@ -61,10 +61,11 @@ pub trait Kernel: Sync {
     const ACROSS_TRIANGLES: bool = false;
 }
 
-/// Pixels waiting to be shaded four at a time ([`Kernel::LANES`]).
+/// Pixels waiting to be shaded four at a time ([`Kernel::LANES`]), each with where its colour
+/// goes: a pixel index of the band (`usize`), or a multisampled block's samples.
 #[derive(Debug, Clone)]
-pub struct Pending {
-    idx: [usize; 4],
+pub struct Pending<T = usize> {
+    idx: [T; 4],
     attrs: [Attrs; 4],
     len: usize,
 }
@@ -75,54 +76,39 @@ impl Default for Pending {
     }
 }
 
-impl Pending {
+impl<T: Copy + Default> Pending<T> {
     /// No pixel waiting.
     #[must_use]
-    pub fn new() -> Pending {
+    pub fn new() -> Pending<T> {
         Pending {
-            idx: [0; 4],
+            idx: [T::default(); 4],
             attrs: [[0.0; MAX_ATTRS]; 4],
             len: 0,
         }
     }
 
-    /// Shades the waiting pixels with `kernel` and writes their colours.
+    /// Queues `at` with the first `l` of `attrs` times `w` (the perspective divide); true when
+    /// the group holds four. `l` is a whole number of vector widths ([`lanes`]) known when this
+    /// is inlined: kernels read only their own attributes, and a fixed width compiles to a few
+    /// vector multiplies where a loop to the kernel's count did one lane at a time.
     #[inline(always)]
-    pub fn flush<K: Kernel>(&mut self, kernel: &K, tri: &K::Tri, color: &mut [Vec3]) {
-        self.flush_with(|a, count| kernel.shade_lanes(tri, a, count), color);
-    }
-
-    /// Queues pixel `idx` of the band with the first `l` of `attrs` times `w` (the
-    /// perspective divide), shading the group with `shade` once it holds four. `l` is a whole
-    /// number of vector widths ([`lanes`]) known when this is inlined: kernels read only their
-    /// own attributes, and a fixed width compiles to a few vector multiplies where a loop to
-    /// the kernel's count did one lane at a time.
-    #[inline(always)]
-    fn push(
-        &mut self,
-        idx: usize,
-        (attrs, w, l): (&Attrs, f32, usize),
-        shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
-        color: &mut [Vec3],
-    ) {
+    fn queue(&mut self, at: T, (attrs, w, l): (&Attrs, f32, usize)) -> bool {
         let slot = &mut self.attrs[self.len];
         for k in 0..l {
             slot[k] = attrs[k] * w;
         }
-        self.idx[self.len] = idx;
+        self.idx[self.len] = at;
         self.len += 1;
-        if self.len == 4 {
-            self.flush_with(shade, color);
-        }
+        self.len == 4
     }
 
-    /// Shades the waiting pixels with `shade` (the colours of the first `count` of four
-    /// attribute sets; the others repeat the first) and writes their colours.
+    /// Shades the waiting entries with `shade` (the colours of the first `count` of four
+    /// attribute sets; the others repeat the first) and hands each clamped colour to `write`.
     #[inline(always)]
-    fn flush_with(
+    fn flush_into(
         &mut self,
         shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
-        color: &mut [Vec3],
+        mut write: impl FnMut(T, Vec3),
     ) {
         if self.len == 0 {
             return;
@@ -133,9 +119,42 @@ impl Pending {
         let c = shade(&self.attrs, self.len);
         for k in 0..self.len {
             debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
-            color[self.idx[k]] = clamp_color(c[k]);
+            write(self.idx[k], clamp_color(c[k]));
         }
         self.len = 0;
+    }
+}
+
+impl Pending {
+    /// Shades the waiting pixels with `kernel` and writes their colours.
+    #[inline(always)]
+    pub fn flush<K: Kernel>(&mut self, kernel: &K, tri: &K::Tri, color: &mut [Vec3]) {
+        self.flush_with(|a, count| kernel.shade_lanes(tri, a, count), color);
+    }
+
+    /// Queues pixel `idx` of the band ([`Pending::queue`]), shading the group with `shade`
+    /// once it holds four.
+    #[inline(always)]
+    fn push(
+        &mut self,
+        idx: usize,
+        attrs: (&Attrs, f32, usize),
+        shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
+        color: &mut [Vec3],
+    ) {
+        if self.queue(idx, attrs) {
+            self.flush_with(shade, color);
+        }
+    }
+
+    /// Shades the waiting pixels with `shade` and writes their colours.
+    #[inline(always)]
+    fn flush_with(
+        &mut self,
+        shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
+        color: &mut [Vec3],
+    ) {
+        self.flush_into(shade, |i, c| color[i] = c);
     }
 }
 
@@ -631,7 +650,7 @@ impl ByPixel<'_> {
         let width = self.width as usize;
         let all = block_mask::<K>();
         let mut shaded = 0;
-        let mut pending = BlockPending::new();
+        let mut pending = Pending::<BlockSamples>::new();
         for by in 0..self.extents.len() / K {
             let top = (self.y0 + (by * K) as i64) as f64;
             let (mut run, mut next) = (u64::MAX, usize::MAX);
@@ -667,7 +686,9 @@ impl ByPixel<'_> {
                     } else {
                         1.0
                     };
-                    pending.push::<K, L>((base, all), (&attrs, w), (width, &shade4), color);
+                    if pending.queue((base, all), (&attrs, w, L)) {
+                        pending.flush_into(&shade4, |at, c| write_block::<K>(color, width, at, c));
+                    }
                     shaded += 1;
                     continue;
                 }
@@ -691,12 +712,14 @@ impl ByPixel<'_> {
                     let o = (sx / count - p.origin.0, top + sy / count - p.origin.1);
                     let (iw, a) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
                     let w = if PERSPECTIVE { (1.0 / iw) as f32 } else { 1.0 };
-                    pending.push::<K, L>((base, mask), (&a, w), (width, &shade4), color);
+                    if pending.queue((base, mask), (&a, w, L)) {
+                        pending.flush_into(&shade4, |at, c| write_block::<K>(color, width, at, c));
+                    }
                     shaded += 1;
                 }
             }
         }
-        pending.flush::<K>(width, &shade4, color);
+        pending.flush_into(&shade4, |at, c| write_block::<K>(color, width, at, c));
         shaded
     }
 
@@ -723,82 +746,35 @@ const fn block_mask<const K: usize>() -> u16 {
     }
 }
 
-/// Multisampled shading waiting to be done four at a time: per entry, the first sample of its
-/// block and a mask of the block's samples (bit `sy * K + sx`) that take the colour.
-struct BlockPending {
-    at: [(usize, u16); 4],
-    attrs: [Attrs; 4],
-    len: usize,
-}
+/// Where a multisampled shading's colour goes: the first sample of its block and a mask of the
+/// block's samples (bit `sy * K + sx`) that take it.
+type BlockSamples = (usize, u16);
 
-impl BlockPending {
-    fn new() -> BlockPending {
-        BlockPending {
-            at: [(0, 0); 4],
-            attrs: [[0.0; MAX_ATTRS]; 4],
-            len: 0,
-        }
-    }
-
-    /// Queues one shading (the first `L` of `attrs` times `w`) for the samples `at`.
-    #[inline(always)]
-    fn push<const K: usize, const L: usize>(
-        &mut self,
-        at: (usize, u16),
-        (attrs, w): (&Attrs, f32),
-        (width, shade): (usize, impl Fn(&[Attrs; 4], usize) -> [Vec3; 4]),
-        color: &mut [Vec3],
-    ) {
-        let slot = &mut self.attrs[self.len];
-        for k in 0..L {
-            slot[k] = attrs[k] * w;
-        }
-        self.at[self.len] = at;
-        self.len += 1;
-        if self.len == 4 {
-            self.flush::<K>(width, shade, color);
-        }
-    }
-
-    /// Shades the waiting entries and writes each colour to its samples.
-    #[inline(always)]
-    fn flush<const K: usize>(
-        &mut self,
-        width: usize,
-        shade: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
-        color: &mut [Vec3],
-    ) {
-        if self.len == 0 {
-            return;
-        }
-        for k in self.len..4 {
-            self.attrs[k] = self.attrs[0];
-        }
-        let c = shade(&self.attrs, self.len);
-        for k in 0..self.len {
-            debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
-            let c = clamp_color(c[k]);
-            let (base, mask) = self.at[k];
-            if mask == block_mask::<K>() {
-                for sy in 0..K {
-                    let row = base + sy * width;
-                    if let Some(row) = color.get_mut(row..row + K) {
-                        row.fill(c);
-                    }
-                }
-                continue;
+/// Writes colour `c` to the samples `(base, mask)` of a `K x K` block in rows `width` long.
+#[inline(always)]
+fn write_block<const K: usize>(
+    color: &mut [Vec3],
+    width: usize,
+    (base, mask): BlockSamples,
+    c: Vec3,
+) {
+    if mask == block_mask::<K>() {
+        for sy in 0..K {
+            let row = base + sy * width;
+            if let Some(row) = color.get_mut(row..row + K) {
+                row.fill(c);
             }
-            for sy in 0..K {
-                for sx in 0..K {
-                    if mask & (1 << (sy * K + sx)) != 0 {
-                        if let Some(p) = color.get_mut(base + sy * width + sx) {
-                            *p = c;
-                        }
-                    }
+        }
+        return;
+    }
+    for sy in 0..K {
+        for sx in 0..K {
+            if mask & (1 << (sy * K + sx)) != 0 {
+                if let Some(p) = color.get_mut(base + sy * width + sx) {
+                    *p = c;
                 }
             }
         }
-        self.len = 0;
     }
 }
 
