@@ -174,7 +174,7 @@ pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, thre
         _ => vec![full; out.height() as usize],
     };
     let rows_per_task = 16;
-    crate::bands::for_each_chunk_pair(
+    crate::parallel::for_each_chunk_pair(
         threads,
         &mut out.color,
         &mut out.depth,

@@ -205,7 +205,7 @@ impl Framebuffer {
         let n = out.len().min(self.color.len());
         let background = self.clean.as_ref().map(pack);
         let rows: Vec<usize> = (0..n.div_ceil(width)).collect();
-        crate::bands::for_each_chunk(threads, &mut out[..n], &rows, (16, width), |dst, rows| {
+        crate::parallel::for_each_chunk(threads, &mut out[..n], &rows, (16, width), |dst, rows| {
             for (dst, &y) in dst.chunks_mut(width).zip(rows) {
                 let src = &self.color[y * width..y * width + dst.len()];
                 let (lo, hi) = match (background, self.dirty.get(y)) {

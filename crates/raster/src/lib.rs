@@ -66,15 +66,18 @@ use phosphor_lighting::{Effects, LightSet, Material};
 
 pub mod antialias;
 pub(crate) mod bands;
+pub(crate) mod bin;
 pub mod bump;
 pub mod camera;
 pub(crate) mod clip;
 pub mod encode;
 pub mod framebuffer;
+pub(crate) mod parallel;
 mod render;
 pub(crate) mod scanline;
 pub(crate) mod setup;
 pub(crate) mod shade;
+pub(crate) mod vertex;
 
 #[cfg(test)]
 mod tests;

@@ -19,7 +19,7 @@ use phosphor_lighting::{ShadeTerms, lobe_sharpness, shade_split, specular_upper_
 
 use super::phong::Phong;
 use super::taylor::{TaylorKernel, TaylorTri};
-use super::{Lit, Mode, VertexIn, surface_attrs};
+use super::{Lit, Mode, Passes, TriInput, TriVertices, VertexIn, surface_attrs};
 use crate::FastPhongMethod;
 use crate::clip::Attrs;
 use crate::framebuffer::clamp_color;
@@ -313,13 +313,12 @@ impl<const FX: u32> FastPhong<'_, FX> {
 impl<const FX: u32> Mode for FastPhong<'_, FX> {
     const ATTRS: usize = 6;
     type Tri = FastTri;
-    const EARLY_Z: bool = true;
+    const PASSES: Passes = Passes::ByPixel;
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
-    const READS_VERTICES: bool = false;
     // With the fit only triangles of MIN_FIT_AREA_PX or more get here: a few hundred on S1.
-    const SCREEN_PER_TRIANGLE: bool = true;
+    const INPUT: TriInput = TriInput::ScreenPerTriangle;
     #[inline]
     fn triangle_from_positions(&self, p: &[ScreenPos; 3]) -> Option<FastTri> {
         if self.method == FastPhongMethod::Taylor {
@@ -332,12 +331,11 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
         (area2 * 0.5 < MIN_FIT_AREA_PX * (SUBPIXEL_ONE * SUBPIXEL_ONE) as f64)
             .then_some(FastTri::Small)
     }
-    fn triangle(
-        &self,
-        _: [&VertexIn; 3],
-        screen: [&ScreenVertex; 3],
-        perspective: bool,
-    ) -> FastTri {
+    fn triangle(&self, v: TriVertices<'_>, perspective: bool) -> FastTri {
+        // The renderer hands the screen vertices (INPUT); without them, shade exactly.
+        let TriVertices::Screen(screen) = v else {
+            return FastTri::Phong;
+        };
         if self.method == FastPhongMethod::Taylor {
             let geom = FitTri::new(screen, perspective);
             return match super::taylor::build::<FX>(&self.lit, &geom.v, |l| Self::surface(&geom, l))
@@ -367,9 +365,9 @@ impl<const FX: u32> Mode for FastPhong<'_, FX> {
     fn finish(&self, target: &mut BandTarget) {
         target.pending.flush(&self.phong(), &(), target.color);
     }
-    // Triangles shaded exactly (too small to fit, or refused) take phong's by-pixel pass;
-    // only fitted ones are traversed again, to step their polynomials along the spans.
-    const BY_PIXEL: bool = true;
+    // Triangles shaded exactly (too small to fit, or refused) take phong's by-pixel pass
+    // (PASSES); only fitted ones are traversed again, to step their polynomials along the
+    // spans.
     #[inline]
     fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
         self.phong().shade4(attrs, count)

@@ -5,10 +5,10 @@ use glam::Vec3;
 use phosphor_lighting::{Vec3x4, shade, shade_x4};
 use phosphor_math::safe_normalize;
 
-use super::{Lit, Mode, VertexIn};
+use super::{Lit, Mode, TriInput, TriVertices, VertexIn};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::{RasterTri, ScreenVertex};
+use crate::setup::RasterTri;
 
 /// The flat mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
@@ -37,18 +37,16 @@ impl<const FX: u32> Mode for Flat<'_, FX> {
     fn vertex(&self, _: &VertexIn) -> Attrs {
         [0.0; MAX_ATTRS]
     }
-    fn triangle(&self, src: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) -> Vec3 {
+    const INPUT: TriInput = TriInput::World;
+    fn triangle(&self, v: TriVertices<'_>, _: bool) -> Vec3 {
+        // The renderer hands the world vertices (INPUT); without them there is no facet.
+        let TriVertices::World(src) = v else {
+            return Vec3::ZERO;
+        };
         let (centroid, n) = facet(src.map(|v| v.world));
         shade::<FX>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
     }
-    const READS_SCREEN: bool = false;
-    const BATCH_TRIANGLES: bool = true;
-    fn triangle4(
-        &self,
-        src: [[&VertexIn; 3]; 4],
-        _: [[&ScreenVertex; 3]; 4],
-        _: bool,
-    ) -> [Vec3; 4] {
+    fn triangle4(&self, src: [[&VertexIn; 3]; 4]) -> [Vec3; 4] {
         let f = src.map(|v| facet(v.map(|v| v.world)));
         // Bit for bit `triangle` in every lane.
         shade_x4::<FX>(
@@ -85,9 +83,7 @@ impl Mode for FillOnly {
     fn vertex(&self, _: &VertexIn) -> Attrs {
         [0.0; MAX_ATTRS]
     }
-    const READS_VERTICES: bool = false;
-    const READS_SCREEN: bool = false;
-    fn triangle(&self, _: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) -> Vec3 {
+    fn triangle(&self, _: TriVertices<'_>, _: bool) -> Vec3 {
         self.color
     }
     fn draw(&self, t: &RasterTri, tri: &Vec3, target: &mut BandTarget) -> u64 {

@@ -7,10 +7,10 @@
 use glam::Vec3;
 use phosphor_lighting::{Vec3x4, shade, shade_x4};
 
-use super::{Lit, Mode, VertexIn, get3, put3};
+use super::{Lit, Mode, TriVertices, VertexIn, get3, put3};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::{RasterTri, ScreenVertex};
+use crate::setup::RasterTri;
 
 /// The Gouraud mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
@@ -73,9 +73,7 @@ impl<const FX: u32> Mode for Gouraud<'_, FX> {
             a
         })
     }
-    const READS_VERTICES: bool = false;
-    const READS_SCREEN: bool = false;
-    fn triangle(&self, _: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) {}
+    fn triangle(&self, _: TriVertices<'_>, _: bool) {}
     fn draw(&self, t: &RasterTri, tri: &(), target: &mut BandTarget) -> u64 {
         traverse(t, self, tri, target)
     }

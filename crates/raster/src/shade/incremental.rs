@@ -5,10 +5,10 @@
 //! `I' = I + (I2 - I1)/(y1 - y2)` between scan lines and a constant increment along each span,
 //! in `f32`).
 
-use super::{Mode, VertexIn};
+use super::{Mode, Passes, TriInput, TriVertices, VertexIn};
 use crate::clip::Attrs;
 use crate::scanline::{BandTarget, IncrementalTri, Kernel, traverse_incremental};
-use crate::setup::{RasterTri, ScreenVertex};
+use crate::setup::RasterTri;
 
 /// Mode `M` with the incremental scan line. The triangle data is the three screen vertices
 /// the walk starts from.
@@ -23,29 +23,34 @@ where
     M: Mode + Kernel<Tri = ()>,
 {
     const ATTRS: usize = <M as Mode>::ATTRS;
-    type Tri = IncrementalTri;
-    const EARLY_Z: bool = M::EARLY_Z;
+    type Tri = Option<IncrementalTri>;
+    // Attributes come from the walk, not from planes: no by-pixel pass.
+    const PASSES: Passes = match M::PASSES {
+        Passes::Single => Passes::Single,
+        Passes::DepthFirst | Passes::ByPixel => Passes::DepthFirst,
+    };
+    const INPUT: TriInput = TriInput::Screen;
     fn vertex(&self, v: &VertexIn) -> Attrs {
         self.inner.vertex(v)
     }
     fn vertex4(&self, v: [&VertexIn; 4]) -> [Attrs; 4] {
         self.inner.vertex4(v)
     }
-    const READS_VERTICES: bool = false;
-    fn triangle(
-        &self,
-        _: [&VertexIn; 3],
-        screen: [&ScreenVertex; 3],
-        _perspective: bool,
-    ) -> IncrementalTri {
-        IncrementalTri {
+    fn triangle(&self, v: TriVertices<'_>, _perspective: bool) -> Option<IncrementalTri> {
+        // The renderer hands the screen vertices (INPUT); without them nothing is drawn.
+        let TriVertices::Screen(screen) = v else {
+            return None;
+        };
+        Some(IncrementalTri {
             xy: screen.map(|v| (v.x, v.y)),
             inv_w: screen.map(|v| v.inv_w as f32),
             attrs: screen.map(|v| v.attrs),
-        }
+        })
     }
-    fn draw(&self, t: &RasterTri, tri: &IncrementalTri, target: &mut BandTarget) -> u64 {
-        traverse_incremental(t, &self.inner, &(), tri, target)
+    fn draw(&self, t: &RasterTri, tri: &Option<IncrementalTri>, target: &mut BandTarget) -> u64 {
+        tri.as_ref().map_or(0, |tri| {
+            traverse_incremental(t, &self.inner, &(), tri, target)
+        })
     }
     fn finish(&self, target: &mut BandTarget) {
         self.inner.finish(target);

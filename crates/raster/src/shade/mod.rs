@@ -40,6 +40,52 @@ pub struct VertexIn {
     pub tangent: Vec4,
 }
 
+/// How a band draws a mode's triangles (see the bands stage).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Passes {
+    /// One pass: each triangle depth-tested, shaded and written in turn (modes whose
+    /// per-pixel shading costs less than a second traversal).
+    Single,
+    /// A depth pass recording the nearest triangle per pixel, then the triangles that own a
+    /// pixel traversed again, each shading only its own pixels: every pixel shaded once.
+    DepthFirst,
+    /// A depth pass, then every visible pixel shaded from the id buffer alone
+    /// ([`Mode::shade4`] of its interpolated attributes), with no second traversal; triangles
+    /// for which [`Mode::by_pixel`] is false are traversed again as in
+    /// [`Passes::DepthFirst`]. For modes whose pixels depend on nothing but the attributes.
+    ByPixel,
+}
+
+/// What a mode's triangle set-up ([`Mode::triangle`]) reads besides the snapped positions.
+/// The renderer fetches or builds exactly that: a dense mesh's vertices are scattered in
+/// memory, and fetching them is most of the cost of accepting a triangle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TriInput {
+    /// Nothing ([`TriVertices::Positions`]).
+    Positions,
+    /// The three world vertices ([`TriVertices::World`]), four triangles at a time
+    /// ([`Mode::triangle4`]): for modes whose triangle data costs a lighting evaluation.
+    World,
+    /// The three screen vertices ([`TriVertices::Screen`]), built once per mesh vertex.
+    Screen,
+    /// The three screen vertices, built when the triangle is handed over (the same bits): for
+    /// modes that settle nearly every triangle by [`Mode::triangle_from_positions`].
+    ScreenPerTriangle,
+}
+
+/// The vertices of one triangle handed to [`Mode::triangle`], as its [`Mode::INPUT`] asks.
+#[derive(Debug, Clone, Copy)]
+pub enum TriVertices<'a> {
+    /// For [`TriInput::Positions`].
+    Positions,
+    /// For [`TriInput::World`]: the mesh triangle's world vertices (of the whole triangle
+    /// when it was clipped: the same plane).
+    World([&'a VertexIn; 3]),
+    /// For [`TriInput::Screen`] and [`TriInput::ScreenPerTriangle`]: the screen triangle's
+    /// vertices (attributes divided by `w` when perspective-correct).
+    Screen([&'a ScreenVertex; 3]),
+}
+
 /// Per-draw stages of a shading mode: the vertex attributes, the triangle set-up, and the
 /// drawing of one set-up triangle into a band.
 pub trait Mode: Sync {
@@ -47,23 +93,18 @@ pub trait Mode: Sync {
     const ATTRS: usize;
     /// Per-triangle data.
     type Tri: Send + Sync;
-    /// Whether a band is drawn in two passes, depth first, so that each pixel is shaded once
-    /// (for modes whose per-pixel shading costs more than a second traversal).
-    const EARLY_Z: bool = false;
+    /// How a band draws this mode's triangles.
+    const PASSES: Passes = Passes::Single;
+    /// What [`Mode::triangle`] reads.
+    const INPUT: TriInput = TriInput::Positions;
     /// The attributes of one vertex.
     fn vertex(&self, v: &VertexIn) -> Attrs;
     /// [`Mode::vertex`] of four vertices (modes that shade per vertex do it four at a time).
     fn vertex4(&self, v: [&VertexIn; 4]) -> [Attrs; 4] {
         v.map(|v| self.vertex(v))
     }
-    /// Set-up for one screen triangle (`screen`, with attributes divided by `w` when
-    /// `perspective`) cut from mesh triangle `src`.
-    fn triangle(
-        &self,
-        src: [&VertexIn; 3],
-        screen: [&ScreenVertex; 3],
-        perspective: bool,
-    ) -> Self::Tri;
+    /// Set-up for one screen triangle from the vertices its [`Mode::INPUT`] names.
+    fn triangle(&self, v: TriVertices<'_>, perspective: bool) -> Self::Tri;
     /// The triangle's data from its snapped screen positions alone, when they decide it
     /// (`None`: call [`Mode::triangle`]). Checked first for a triangle inside the clip volume,
     /// so that one the positions settle costs no fetch of its vertices.
@@ -72,45 +113,19 @@ pub trait Mode: Sync {
         let _ = p;
         None
     }
-    /// Whether [`Mode::triangle`] reads its mesh vertices (`src`). When false the renderer
-    /// hands it placeholders instead of fetching them (a dense mesh's vertices are scattered
-    /// in memory, and the fetch is most of the cost of accepting a triangle).
-    const READS_VERTICES: bool = true;
-    /// Whether [`Mode::triangle`] reads its screen vertices (`screen`). Only then does the
-    /// renderer keep a whole [`ScreenVertex`] per mesh vertex (over 100 bytes); the others get
-    /// placeholders, and the bands read compact positions and attributes.
-    const READS_SCREEN: bool = true;
-    /// With [`Mode::READS_SCREEN`]: build a triangle's screen vertices when it is handed to
-    /// [`Mode::triangle`] instead of once per mesh vertex, for modes that settle nearly every
-    /// triangle by [`Mode::triangle_from_positions`] (the same vertices, bit for bit).
-    const SCREEN_PER_TRIANGLE: bool = false;
-    /// Whether the renderer gathers triangles to call [`Mode::triangle4`] (modes whose
-    /// per-triangle data costs a lighting evaluation); others get [`Mode::triangle`] directly.
-    const BATCH_TRIANGLES: bool = false;
-    /// [`Mode::triangle`] of four triangles (modes that shade per triangle do it four at a
-    /// time).
-    fn triangle4(
-        &self,
-        src: [[&VertexIn; 3]; 4],
-        screen: [[&ScreenVertex; 3]; 4],
-        perspective: bool,
-    ) -> [Self::Tri; 4] {
-        std::array::from_fn(|k| self.triangle(src[k], screen[k], perspective))
+    /// [`Mode::triangle`] of four triangles' world vertices ([`TriInput::World`]).
+    fn triangle4(&self, src: [[&VertexIn; 3]; 4]) -> [Self::Tri; 4] {
+        src.map(|v| self.triangle(TriVertices::World(v), false))
     }
     /// Draws the triangle's pixels inside `target`; returns the pixels shaded.
     fn draw(&self, t: &RasterTri, tri: &Self::Tri, target: &mut BandTarget) -> u64;
-    /// Whether the band's shading pass runs from the depth pass's id buffer alone
-    /// ([`crate::scanline::ByPixel`] with [`Mode::shade4`]) instead of traversing the
-    /// visible triangles again: for `EARLY_Z` modes whose pixels depend on nothing but the
-    /// interpolated attributes.
-    const BY_PIXEL: bool = false;
     /// The colours of the first `count` of four pixels with attributes `attrs` (lanes past
-    /// `count` repeat lane 0); called only when [`Mode::BY_PIXEL`].
+    /// `count` repeat lane 0); called only with [`Passes::ByPixel`].
     fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
         let _ = (attrs, count);
         [Vec3::ZERO; 4]
     }
-    /// With [`Mode::BY_PIXEL`]: whether this triangle's pixels come from the by-pixel pass
+    /// With [`Passes::ByPixel`]: whether this triangle's pixels come from the by-pixel pass
     /// ([`Mode::shade4`] of its interpolated attributes). A triangle for which it is false is
     /// drawn by [`Mode::draw`] in a visible pass after it, over the pixels it owns (fast
     /// Phong's fitted polynomials).

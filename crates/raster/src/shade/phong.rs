@@ -5,11 +5,11 @@
 use glam::{Vec2, Vec3, Vec4};
 use phosphor_lighting::{Vec3x4, f32x4, shade, shade_x4};
 
-use super::{Lit, Mode, VertexIn, get3, surface_attrs};
+use super::{Lit, Mode, Passes, TriVertices, VertexIn, get3, surface_attrs};
 use crate::bump::BumpMap;
 use crate::clip::Attrs;
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::{RasterTri, ScreenVertex};
+use crate::setup::RasterTri;
 
 /// The Phong mode for effect set `FX`, with or without bump mapping.
 #[derive(Debug, Clone, Copy)]
@@ -78,20 +78,17 @@ impl<const FX: u32, const BUMP: bool> Kernel for Phong<'_, FX, BUMP> {
 impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
     const ATTRS: usize = if BUMP { 12 } else { 6 };
     type Tri = ();
-    const EARLY_Z: bool = true;
+    const PASSES: Passes = Passes::ByPixel;
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
-    const READS_VERTICES: bool = false;
-    const READS_SCREEN: bool = false;
-    fn triangle(&self, _: [&VertexIn; 3], _: [&ScreenVertex; 3], _: bool) {}
+    fn triangle(&self, _: TriVertices<'_>, _: bool) {}
     fn draw(&self, t: &RasterTri, tri: &(), target: &mut BandTarget) -> u64 {
         traverse(t, self, tri, target)
     }
     fn finish(&self, target: &mut BandTarget) {
         target.pending.flush(self, &(), target.color);
     }
-    const BY_PIXEL: bool = true;
     #[inline]
     fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
         self.shade_lanes(&(), attrs, count)

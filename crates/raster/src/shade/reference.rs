@@ -6,11 +6,11 @@
 use glam::{DVec2, DVec3, Vec2, Vec3, Vec4};
 use phosphor_lighting::{LightSet, Material, shade_reference};
 
-use super::{Mode, VertexIn, surface_attrs};
+use super::{Mode, Passes, TriInput, TriVertices, VertexIn, surface_attrs};
 use crate::bump::BumpMap;
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::{RasterTri, ScreenVertex};
+use crate::setup::RasterTri;
 
 /// The reference mode.
 #[derive(Debug, Clone, Copy)]
@@ -74,13 +74,17 @@ impl Kernel for Reference<'_> {
 
 impl Mode for Reference<'_> {
     const ATTRS: usize = 12;
-    type Tri = RefTri;
-    const EARLY_Z: bool = true;
+    type Tri = Option<RefTri>;
+    const PASSES: Passes = Passes::DepthFirst;
+    const INPUT: TriInput = TriInput::Screen;
     fn vertex(&self, v: &VertexIn) -> Attrs {
         surface_attrs(v)
     }
-    const READS_VERTICES: bool = false;
-    fn triangle(&self, _: [&VertexIn; 3], v: [&ScreenVertex; 3], perspective: bool) -> RefTri {
+    fn triangle(&self, v: TriVertices<'_>, perspective: bool) -> Option<RefTri> {
+        // The renderer hands the screen vertices (INPUT); without them nothing is drawn.
+        let TriVertices::Screen(v) = v else {
+            return None;
+        };
         let screen = v.map(|s| DVec2::new(s.x, s.y));
         let rhw = v.map(|s| s.rhw);
         let attrs = v.map(|s| {
@@ -90,14 +94,14 @@ impl Mode for Reference<'_> {
         });
         let [a, b, c] = screen;
         let area = (b - a).perp_dot(c - a);
-        RefTri {
+        Some(RefTri {
             screen,
             rhw,
             attrs,
             inv_area: if area != 0.0 { 1.0 / area } else { 0.0 },
-        }
+        })
     }
-    fn draw(&self, t: &RasterTri, tri: &RefTri, target: &mut BandTarget) -> u64 {
-        traverse(t, self, tri, target)
+    fn draw(&self, t: &RasterTri, tri: &Option<RefTri>, target: &mut BandTarget) -> u64 {
+        tri.as_ref().map_or(0, |tri| traverse(t, self, tri, target))
     }
 }

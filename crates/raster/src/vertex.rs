@@ -1,0 +1,156 @@
+//! Stage 1, VERTEX: every mesh vertex once (a vertex is shared by about six triangles), in
+//! parallel: model, view and projection; the normal by the inverse transpose; the mode's
+//! attributes; and, for a vertex inside every clip plane, its snapped screen position and
+//! attributes (divided by `w`), stored compactly because the later stages fetch vertices from
+//! all over the mesh and a compact vertex spans fewer cache lines.
+
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+
+use crate::DrawItem;
+use crate::clip::{ClipVertex, guard_band, inside_clip_volume};
+use crate::parallel::{for_each_chunk_pair, map_indices};
+use crate::setup::{ScreenPos, ScreenVertex, to_screen};
+use crate::shade::{Mode, TriInput, VertexIn};
+
+/// The image a draw is projected onto.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Viewport {
+    /// Image width in pixels (or samples).
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// The guard band's extent in clip space ([`guard_band`]).
+    pub guard: (f32, f32),
+    /// Whether attributes are divided by `w` (perspective-correct interpolation).
+    pub perspective: bool,
+}
+
+impl Viewport {
+    /// A `width` x `height` image.
+    pub fn new(width: u32, height: u32, perspective: bool) -> Viewport {
+        Viewport {
+            width,
+            height,
+            guard: guard_band(width, height),
+            perspective,
+        }
+    }
+
+    /// The screen vertex of `cv` with `n` attributes, when it is inside every clip plane
+    /// (a triangle of three such vertices is not changed by clipping).
+    #[inline]
+    pub fn screen(&self, cv: &ClipVertex, n: usize) -> Option<ScreenVertex> {
+        (cv.pos.is_finite() && inside_clip_volume(cv.pos, self.guard))
+            .then(|| to_screen(cv, self.width, self.height, n, self.perspective))
+            .flatten()
+    }
+}
+
+/// One draw's vertices after the vertex stage.
+pub(crate) struct DrawVertices {
+    /// Clip-space position and world-space vertex, per mesh vertex.
+    pub clip: Vec<(Vec4, VertexIn)>,
+    /// Snapped screen position per vertex ([`ScreenPos::NONE`] outside the clip volume).
+    pub pos: Vec<ScreenPos>,
+    /// The mode's attributes, `M::ATTRS` per vertex (divided by `w` when perspective).
+    pub attrs: Vec<f32>,
+    /// Whole screen vertices, for modes whose [`Mode::INPUT`] is [`TriInput::Screen`]
+    /// (empty otherwise: a whole one is over 100 bytes).
+    pub screen: Vec<Option<ScreenVertex>>,
+}
+
+impl DrawVertices {
+    /// Vertex `i` in clip space with `mode`'s attributes (not divided by `w`): what clipping
+    /// starts from. Its screen vertex has the bits of the one the stage stored.
+    #[inline]
+    pub fn clip_vertex<M: Mode>(&self, mode: &M, i: usize) -> ClipVertex {
+        ClipVertex {
+            pos: self.clip[i].0,
+            attrs: mode.vertex(&self.clip[i].1),
+        }
+    }
+}
+
+/// Runs the vertex stage of draw `d` for `mode` (`vp`: view-projection) on `threads`.
+pub(crate) fn vertex_stage<M: Mode>(
+    d: &DrawItem,
+    vp: Mat4,
+    mode: &M,
+    view: &Viewport,
+    threads: usize,
+) -> DrawVertices {
+    let clip = transform(d, vp, threads);
+    let mut pos = vec![ScreenPos::NONE; clip.len()];
+    let mut attrs = vec![0.0; clip.len() * M::ATTRS];
+    for_each_chunk_pair(
+        threads,
+        &mut pos,
+        &mut attrs,
+        (4096, M::ATTRS),
+        |first, pos, attrs| {
+            let src = &clip[first..first + pos.len()];
+            for (g, group) in src.chunks(4).enumerate() {
+                let a4 = mode.vertex4(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
+                for (j, (v, a)) in group.iter().zip(a4).enumerate() {
+                    let i = 4 * g + j;
+                    if let Some(sv) = view.screen(&ClipVertex { pos: v.0, attrs: a }, M::ATTRS) {
+                        pos[i] = sv.pos();
+                        let out = attrs.get_mut(i * M::ATTRS..(i + 1) * M::ATTRS);
+                        out.unwrap_or(&mut [])
+                            .copy_from_slice(&sv.attrs[..M::ATTRS]);
+                    }
+                }
+            }
+        },
+    );
+    let mut out = DrawVertices {
+        clip,
+        pos,
+        attrs,
+        screen: Vec::new(),
+    };
+    if matches!(M::INPUT, TriInput::Screen) {
+        out.screen = map_indices(threads, out.clip.len(), 4096, |i| {
+            view.screen(&out.clip_vertex(mode, i), M::ATTRS)
+        });
+    }
+    out
+}
+
+/// World position, normal (inverse transpose), uv and tangent per vertex, with the
+/// clip-space position.
+fn transform(d: &DrawItem, vp: Mat4, threads: usize) -> Vec<(Vec4, VertexIn)> {
+    let m3 = Mat3::from_mat4(d.model);
+    let normal_matrix = {
+        let nm = m3.inverse().transpose();
+        if nm.is_finite() { nm } else { m3 }
+    };
+    let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
+    let mesh = &d.mesh;
+    map_indices(threads, mesh.positions.len(), 4096, |i| {
+        let world = d.model.transform_point3(mesh.positions[i]);
+        let normal = mesh
+            .normals
+            .get(i)
+            .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
+        let uv = mesh
+            .uvs
+            .and_then(|u| u.get(i).copied())
+            .unwrap_or(Vec2::ZERO);
+        let tangent = mesh
+            .tangents
+            .and_then(|t| t.get(i).copied())
+            .map_or(Vec4::ZERO, |t| {
+                (m3 * t.truncate()).normalize_or_zero().extend(t.w * flip)
+            });
+        (
+            vp * world.extend(1.0),
+            VertexIn {
+                world,
+                normal,
+                uv,
+                tangent,
+            },
+        )
+    })
+}
