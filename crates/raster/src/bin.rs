@@ -177,7 +177,7 @@ fn bin_chunk<M: Mode>(
     let mut staged: Vec<(TriRec, u32, u32)> = Vec::with_capacity(indices.len());
     let mut tris = Vec::with_capacity(indices.len());
     let mut extra = Vec::new();
-    let mut batch = Batch::new(mode);
+    let mut batch = Batch::new(mode, persp);
     let mut drawn = 0;
     for idx in indices {
         if idx.iter().any(|&i| i as usize >= verts.clip.len()) {
@@ -275,14 +275,16 @@ fn bin_chunk<M: Mode>(
 /// ([`Mode::triangle4`]); they wait as references to their vertices, not copies.
 struct Batch<'m, 'v, M> {
     mode: &'m M,
+    perspective: bool,
     queued: [Option<[&'v VertexIn; 3]>; 4],
     len: usize,
 }
 
 impl<'m, 'v, M: Mode> Batch<'m, 'v, M> {
-    fn new(mode: &'m M) -> Batch<'m, 'v, M> {
+    fn new(mode: &'m M, perspective: bool) -> Batch<'m, 'v, M> {
         Batch {
             mode,
+            perspective,
             queued: [None; 4],
             len: 0,
         }
@@ -314,7 +316,9 @@ impl<'m, 'v, M: Mode> Batch<'m, 'v, M> {
         };
         // Lanes past `len` repeat the first triangle; their results are dropped.
         let lane = |k: usize| self.queued[k].filter(|_| k < len).unwrap_or(first);
-        let out = self.mode.triangle4(std::array::from_fn(lane));
+        let out = self
+            .mode
+            .triangle4(std::array::from_fn(lane), self.perspective);
         tris.extend(out.into_iter().take(len));
         self.queued = [None; 4];
     }

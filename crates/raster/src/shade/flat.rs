@@ -46,7 +46,7 @@ impl<const FX: u32> Mode for Flat<'_, FX> {
         let (centroid, n) = facet(src.map(|v| v.world));
         shade::<FX>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
     }
-    fn triangle4(&self, src: [[&VertexIn; 3]; 4]) -> [Vec3; 4] {
+    fn triangle4(&self, src: [[&VertexIn; 3]; 4], _: bool) -> [Vec3; 4] {
         let f = src.map(|v| facet(v.map(|v| v.world)));
         // Bit for bit `triangle` in every lane.
         shade_x4::<FX>(

@@ -114,8 +114,8 @@ pub trait Mode: Sync {
         None
     }
     /// [`Mode::triangle`] of four triangles' world vertices ([`TriInput::World`]).
-    fn triangle4(&self, src: [[&VertexIn; 3]; 4]) -> [Self::Tri; 4] {
-        src.map(|v| self.triangle(TriVertices::World(v), false))
+    fn triangle4(&self, src: [[&VertexIn; 3]; 4], perspective: bool) -> [Self::Tri; 4] {
+        src.map(|v| self.triangle(TriVertices::World(v), perspective))
     }
     /// Draws the triangle's pixels inside `target`; returns the pixels shaded.
     fn draw(&self, t: &RasterTri, tri: &Self::Tri, target: &mut BandTarget) -> u64;
