@@ -560,29 +560,28 @@ impl ByPixel<'_> {
                 continue;
             };
             let yc = (self.y0 + row as i64) as f64 + 0.5;
-            // The run being stepped: its id and the next column it would continue at.
+            // The run being stepped: its id, the next column it would continue at, and its
+            // steps per pixel (kept, so that a pixel continuing it looks nothing up).
             let (mut run, mut next) = (u64::MAX, usize::MAX);
             let (mut inv_w, mut attrs) = (1.0f64, [0.0f32; MAX_ATTRS]);
+            let (mut step_w, mut step) = (0.0f64, [0.0f32; MAX_ATTRS]);
             for (i, &id) in row_ids.iter().enumerate() {
                 let x = lo + i;
-                let Some(p) = (id >= self.epoch)
-                    .then(|| self.slot.get((id - self.epoch) as usize))
-                    .flatten()
-                    .and_then(|&s| self.planes.get(s as usize))
-                else {
-                    continue;
-                };
                 if id == run && x == next {
                     if PERSPECTIVE {
-                        inv_w += p.inv_w[1];
+                        inv_w += step_w;
                     }
                     // Whole vectors, as in `Pending::push`.
                     for k in 0..L {
-                        attrs[k] += p.attr_dx[k];
+                        attrs[k] += step[k];
                     }
                 } else {
+                    let Some(p) = self.planes_of(id) else {
+                        continue;
+                    };
                     let o = (x as f64 + 0.5 - p.origin.0, yc - p.origin.1);
                     (inv_w, attrs) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
+                    (step_w, step) = (p.inv_w[1], p.attr_dx);
                     run = id;
                 }
                 next = x + 1;
@@ -653,31 +652,37 @@ impl ByPixel<'_> {
         let mut pending = Pending::<BlockSamples>::new();
         for by in 0..self.extents.len() / K {
             let top = (self.y0 + (by * K) as i64) as f64;
+            // The run of whole blocks being stepped, as in `run`, by K pixels a block.
             let (mut run, mut next) = (u64::MAX, usize::MAX);
             let (mut inv_w, mut attrs) = (1.0f64, [0.0f32; MAX_ATTRS]);
+            let (mut step_w, mut step) = (0.0f64, [0.0f32; MAX_ATTRS]);
             for bx in self.block_columns::<K>(by) {
                 let base = by * K * width + bx * K;
                 let Some(ids) = self.block_ids::<K>(base) else {
                     continue;
                 };
                 if ids[1..K * K].iter().all(|&id| id == ids[0]) {
-                    let Some(p) = self.planes_of(ids[0]) else {
-                        continue;
-                    };
                     if ids[0] == run && bx == next {
                         if PERSPECTIVE {
-                            inv_w += kf * p.inv_w[1];
+                            inv_w += step_w;
                         }
                         for j in 0..L {
-                            attrs[j] += (kf * f64::from(p.attr_dx[j])) as f32;
+                            attrs[j] += step[j];
                         }
                     } else {
+                        let Some(p) = self.planes_of(ids[0]) else {
+                            continue;
+                        };
                         let o = (
                             (bx * K) as f64 + kf * 0.5 - p.origin.0,
                             top + kf * 0.5 - p.origin.1,
                         );
                         (inv_w, attrs) =
                             planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
+                        step_w = kf * p.inv_w[1];
+                        for j in 0..L {
+                            step[j] = (kf * f64::from(p.attr_dx[j])) as f32;
+                        }
                         run = ids[0];
                     }
                     next = bx + 1;
