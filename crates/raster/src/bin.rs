@@ -236,7 +236,7 @@ fn bin_chunk<M: Mode>(
         let pv = poly.vertices();
         let mut sv = [None; MAX_POLY];
         for (s, v) in sv.iter_mut().zip(pv) {
-            *s = crate::setup::to_screen(v, view.width, view.height, M::ATTRS, persp);
+            *s = view.project(v, M::ATTRS);
         }
         let mut any = false;
         // The clipped polygon is convex: a fan keeps the winding.

@@ -41,8 +41,15 @@ impl Viewport {
     #[inline]
     pub fn screen(&self, cv: &ClipVertex, n: usize) -> Option<ScreenVertex> {
         (cv.pos.is_finite() && inside_clip_volume(cv.pos, self.guard))
-            .then(|| to_screen(cv, self.width, self.height, n, self.perspective))
+            .then(|| self.project(cv, n))
             .flatten()
+    }
+
+    /// Divide and viewport of `cv` with `n` attributes, with no clip-volume test (for the
+    /// corners clipping made, which lie on its planes).
+    #[inline]
+    pub fn project(&self, cv: &ClipVertex, n: usize) -> Option<ScreenVertex> {
+        to_screen(cv, self.width, self.height, n, self.perspective)
     }
 }
 
