@@ -144,6 +144,47 @@ pub enum InterpolationArg {
     Incremental,
 }
 
+/// The vector width of per-pixel lighting (`--simd`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SimdArg {
+    /// The widest this CPU runs.
+    Auto,
+    /// Four lanes (SSE2 on x86-64).
+    Baseline,
+    /// Eight lanes with AVX2 (an error on a CPU without it).
+    Avx2,
+}
+
+/// The SIMD level of render and bench.
+#[derive(Debug, Args, Clone, Copy, Default)]
+pub struct SimdArgs {
+    /// The vector width of per-pixel lighting (default auto: the widest this CPU runs). The
+    /// picture is the same at every level; this compares their speed.
+    #[arg(long, value_enum, value_name = "auto|baseline|avx2")]
+    pub simd: Option<SimdArg>,
+}
+
+impl SimdArgs {
+    /// The SIMD level asked for; `--simd avx2` on a CPU without AVX2 is a usage error.
+    ///
+    /// # Errors
+    /// A level this CPU does not run.
+    pub fn simd(&self) -> Result<phosphor_raster::SimdLevel, String> {
+        let level = match self.simd {
+            None | Some(SimdArg::Auto) => phosphor_raster::SimdLevel::Auto,
+            Some(SimdArg::Baseline) => phosphor_raster::SimdLevel::Baseline,
+            Some(SimdArg::Avx2) => phosphor_raster::SimdLevel::Avx2,
+        };
+        if level.available() {
+            Ok(level)
+        } else {
+            Err(format!(
+                "--simd {level}: this CPU does not run it (use auto or baseline)"
+            ))
+        }
+    }
+}
+
 /// The variant flags of the approximate modes, shared by render, bench and accuracy.
 #[derive(Debug, Args, Clone, Copy, Default)]
 pub struct VariantArgs {
@@ -239,6 +280,9 @@ pub struct RenderArgs {
     /// Variants of fast-phong, gouraud and phong.
     #[command(flatten)]
     pub variants: VariantArgs,
+    /// The SIMD level.
+    #[command(flatten)]
+    pub simd: SimdArgs,
     /// Print the frame plan (per object: mode, effects simulated, lights kept) to stdout.
     #[arg(long)]
     pub plan: bool,
@@ -320,6 +364,9 @@ pub struct BenchArgs {
     /// Variants of fast-phong, gouraud and phong.
     #[command(flatten)]
     pub variants: VariantArgs,
+    /// The SIMD level.
+    #[command(flatten)]
+    pub simd: SimdArgs,
     /// Timed frames per mode (after one untimed warm-up frame).
     #[arg(long, value_name = "N", default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,

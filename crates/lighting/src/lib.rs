@@ -138,6 +138,7 @@ pub mod bound;
 pub mod effects;
 mod error;
 pub mod fresnel;
+pub mod lanes;
 pub mod light;
 pub mod lightset;
 pub mod lobe;
@@ -145,13 +146,16 @@ pub mod material;
 pub mod pow_table;
 pub mod reference;
 pub mod shade;
-pub mod wide4;
+pub mod shade_wide;
 
 pub use attenuation::{Attenuation, MAX_LIGHT_DISTANCE, MIN_ATTENUATION_DENOMINATOR};
 pub use bound::{lobe_sharpness, specular_upper_bound};
 pub use effects::Effects;
 pub use error::LightingError;
 pub use fresnel::{Fresnel, FresnelMode, GLASS_F0};
+#[cfg(target_arch = "x86_64")]
+pub use lanes::{Avx2, Avx2Task, F32x8};
+pub use lanes::{Lanes, f32x4};
 pub use light::{Light, LightKind, MAX_SAMPLES_PER_EDGE};
 pub use lightset::{LightSet, PreparedDirectional, PreparedPoint, PreparedSpot, effects_for};
 pub use lobe::{MIRROR_COS_TOLERANCE, specular_lobe, specular_lobe_f64};
@@ -159,7 +163,9 @@ pub use material::{Material, SpecularModel};
 pub use pow_table::PowTable;
 pub use reference::shade_reference;
 pub use shade::{ShadeTerms, finite_intensity, shade, shade_canonical, shade_dyn, shade_split};
-pub use wide4::{Vec3x4, f32x4, shade_x4};
+#[cfg(target_arch = "x86_64")]
+pub use shade_wide::Vec3x8;
+pub use shade_wide::{Vec3s, Vec3x4, shade_lanes, shade_x4};
 
 #[cfg(test)]
 mod tests;

@@ -292,7 +292,11 @@ fn by_pixel_pass<M: Mode>(
         block: block as usize,
     };
     (
-        pass.shade(target.color, |a, count| input.mode.shade4(a, count)),
+        if input.mode.eight() {
+            pass.shade::<8>(target.color, |a, count| input.mode.shade8(a, count))
+        } else {
+            pass.shade::<4>(target.color, |a, count| input.mode.shade4(a, count))
+        },
         traced,
     )
 }

@@ -7,7 +7,8 @@
 //! (`scanline`, integer edge functions) in horizontal bands in parallel (`bands`) with a
 //! z-buffer (depth in `[0, 1]`, less-than test, the far plane not drawn). Per-pixel modes draw a
 //! band in two passes, depth first, so each pixel is shaded once, and shade four pixels at a
-//! time (`phosphor_lighting::shade_x4`, bit-identical to the scalar model).
+//! time, or eight with AVX2 detected at run time ([`simd`]; `phosphor_lighting::shade_lanes`,
+//! bit-identical to the scalar model at every width).
 //!
 //! Conventions (`docs/conventions.md`): row 0 at the top, pixel centres at `(x + 0.5, y + 0.5)`, front faces
 //! counter-clockwise. Coverage follows a top-left rule for spans: rows `ceil(y0 - 0.5) ..
@@ -77,6 +78,7 @@ mod render;
 pub(crate) mod scanline;
 pub(crate) mod setup;
 pub(crate) mod shade;
+pub mod simd;
 pub(crate) mod vertex;
 
 #[cfg(test)]
@@ -90,6 +92,7 @@ pub use framebuffer::{Framebuffer, RasterError};
 pub use render::{coverage_counts, render, render_fill_only};
 pub use shade::fast_phong::FAST_PHONG_TOLERANCE;
 pub use shade::taylor::MAX_TAYLOR_LIGHTS;
+pub use simd::{SimdLevel, UnknownSimdLevel};
 
 /// The shading modes; names as used by the CLI and scene files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -318,6 +321,9 @@ pub struct RenderOptions {
     /// How `gouraud` and `phong` interpolate their attributes across a triangle (default:
     /// planes evaluated at each span start).
     pub interpolation: Interpolation,
+    /// The vector width of per-pixel lighting (default: the widest this CPU runs); the
+    /// picture is the same at every level ([`simd`]).
+    pub simd: SimdLevel,
 }
 
 impl Default for RenderOptions {
@@ -331,6 +337,7 @@ impl Default for RenderOptions {
             gouraud_vertex_clamp: true,
             fast_phong: FastPhongMethod::Fit,
             interpolation: Interpolation::Plane,
+            simd: SimdLevel::Auto,
         }
     }
 }
@@ -352,4 +359,6 @@ pub struct RenderStats {
     pub bump_ignored: u64,
     /// The anti-aliasing the frame was drawn with (see [`RenderStats::pixels_shaded`]).
     pub antialias: Antialias,
+    /// The SIMD level the frame ran at ([`SimdLevel::resolve`] of the option).
+    pub simd: SimdLevel,
 }

@@ -52,11 +52,14 @@ pub fn render(
             resolve(&samples, fb, k, opts.threads);
             fb.samples = Some(samples);
             stats.antialias = aa;
+            stats.simd = opts.simd.resolve();
             return stats;
         }
     }
     fb.samples = None;
-    render_samples(fb, camera, draws, opts, 1)
+    let mut stats = render_samples(fb, camera, draws, opts, 1);
+    stats.simd = opts.simd.resolve();
+    stats
 }
 
 /// Draws `draws` into `fb` as it is, a sample per pixel (`opts.antialias` is not looked at):
@@ -166,6 +169,7 @@ fn shade_draw(
         set: d.lights,
         mat: effective_material(d.material, d.effects),
         eye,
+        avx2: opts.simd.token(),
     };
     match (d.mode, bump) {
         (ShadingMode::Flat, _) => {

@@ -61,12 +61,13 @@ pub trait Kernel: Sync {
     const ACROSS_TRIANGLES: bool = false;
 }
 
-/// Pixels waiting to be shaded four at a time ([`Kernel::LANES`]), each with where its colour
-/// goes: a pixel index of the band (`usize`), or a multisampled block's samples.
+/// Pixels waiting to be shaded `N` at a time (four for [`Kernel::LANES`]; eight for the
+/// by-pixel pass on AVX2), each with where its colour goes: a pixel index of the band
+/// (`usize`), or a multisampled block's samples.
 #[derive(Debug, Clone)]
-pub struct Pending<T = usize> {
-    idx: [T; 4],
-    attrs: [Attrs; 4],
+pub struct Pending<T = usize, const N: usize = 4> {
+    idx: [T; N],
+    attrs: [Attrs; N],
     len: usize,
 }
 
@@ -76,19 +77,19 @@ impl Default for Pending {
     }
 }
 
-impl<T: Copy + Default> Pending<T> {
+impl<T: Copy + Default, const N: usize> Pending<T, N> {
     /// No pixel waiting.
     #[must_use]
-    pub fn new() -> Pending<T> {
+    pub fn new() -> Pending<T, N> {
         Pending {
-            idx: [T::default(); 4],
-            attrs: [[0.0; MAX_ATTRS]; 4],
+            idx: [T::default(); N],
+            attrs: [[0.0; MAX_ATTRS]; N],
             len: 0,
         }
     }
 
     /// Queues `at` with the first `l` of `attrs` times `w` (the perspective divide); true when
-    /// the group holds four. `l` is a whole number of vector widths ([`lanes`]) known when this
+    /// the group holds `N`. `l` is a whole number of vector widths ([`lanes`]) known when this
     /// is inlined: kernels read only their own attributes, and a fixed width compiles to a few
     /// vector multiplies where a loop to the kernel's count did one lane at a time.
     #[inline(always)]
@@ -99,21 +100,21 @@ impl<T: Copy + Default> Pending<T> {
         }
         self.idx[self.len] = at;
         self.len += 1;
-        self.len == 4
+        self.len == N
     }
 
-    /// Shades the waiting entries with `shade` (the colours of the first `count` of four
+    /// Shades the waiting entries with `shade` (the colours of the first `count` of `N`
     /// attribute sets; the others repeat the first) and hands each clamped colour to `write`.
     #[inline(always)]
     fn flush_into(
         &mut self,
-        shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
+        shade: impl FnOnce(&[Attrs; N], usize) -> [Vec3; N],
         mut write: impl FnMut(T, Vec3),
     ) {
         if self.len == 0 {
             return;
         }
-        for k in self.len..4 {
+        for k in self.len..N {
             self.attrs[k] = self.attrs[0];
         }
         let c = shade(&self.attrs, self.len);
@@ -131,15 +132,17 @@ impl Pending {
     pub fn flush<K: Kernel>(&mut self, kernel: &K, tri: &K::Tri, color: &mut [Vec3]) {
         self.flush_with(|a, count| kernel.shade_lanes(tri, a, count), color);
     }
+}
 
+impl<const N: usize> Pending<usize, N> {
     /// Queues pixel `idx` of the band ([`Pending::queue`]), shading the group with `shade`
-    /// once it holds four.
+    /// once it holds `N`.
     #[inline(always)]
     fn push(
         &mut self,
         idx: usize,
         attrs: (&Attrs, f32, usize),
-        shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
+        shade: impl FnOnce(&[Attrs; N], usize) -> [Vec3; N],
         color: &mut [Vec3],
     ) {
         if self.queue(idx, attrs) {
@@ -151,7 +154,7 @@ impl Pending {
     #[inline(always)]
     fn flush_with(
         &mut self,
-        shade: impl FnOnce(&[Attrs; 4], usize) -> [Vec3; 4],
+        shade: impl FnOnce(&[Attrs; N], usize) -> [Vec3; N],
         color: &mut [Vec3],
     ) {
         self.flush_into(shade, |i, c| color[i] = c);
@@ -500,59 +503,59 @@ pub struct ByPixel<'a> {
 const MAX_BLOCK_SAMPLES: usize = 16;
 
 impl ByPixel<'_> {
-    /// Shades the band's pixels into `color` with `shade4` (the colours of the first `count` of
-    /// four attribute sets); returns the pixels shaded.
-    pub fn shade(
+    /// Shades the band's pixels into `color` with `shade` (the colours of the first `count` of
+    /// `N` attribute sets), `N` pixels per call; returns the pixels shaded.
+    pub fn shade<const N: usize>(
         &self,
         color: &mut [Vec3],
-        shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+        shade: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
     ) -> u64 {
         match self.block {
-            2 => return self.shade_blocks::<2>(color, shade4),
-            4 => return self.shade_blocks::<4>(color, shade4),
+            2 => return self.shade_blocks::<N, 2>(color, shade),
+            4 => return self.shade_blocks::<N, 4>(color, shade),
             _ => {}
         }
         // The lane count as a constant: the stepping and the divide compile to whole vectors.
         match (self.perspective, lanes(self.n)) {
-            (true, 0) => self.run::<true, 0>(color, shade4),
-            (true, 4) => self.run::<true, 4>(color, shade4),
-            (true, 8) => self.run::<true, 8>(color, shade4),
-            (true, _) => self.run::<true, MAX_ATTRS>(color, shade4),
-            (false, 0) => self.run::<false, 0>(color, shade4),
-            (false, 4) => self.run::<false, 4>(color, shade4),
-            (false, 8) => self.run::<false, 8>(color, shade4),
-            (false, _) => self.run::<false, MAX_ATTRS>(color, shade4),
+            (true, 0) => self.run::<N, true, 0>(color, shade),
+            (true, 4) => self.run::<N, true, 4>(color, shade),
+            (true, 8) => self.run::<N, true, 8>(color, shade),
+            (true, _) => self.run::<N, true, MAX_ATTRS>(color, shade),
+            (false, 0) => self.run::<N, false, 0>(color, shade),
+            (false, 4) => self.run::<N, false, 4>(color, shade),
+            (false, 8) => self.run::<N, false, 8>(color, shade),
+            (false, _) => self.run::<N, false, MAX_ATTRS>(color, shade),
         }
     }
 
     /// [`ByPixel::shade`] of a multisampled band, `K x K` samples per pixel.
-    fn shade_blocks<const K: usize>(
+    fn shade_blocks<const N: usize, const K: usize>(
         &self,
         color: &mut [Vec3],
-        shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+        shade: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
     ) -> u64 {
         match (self.perspective, lanes(self.n)) {
-            (true, 0) => self.run_blocks::<true, 0, K>(color, shade4),
-            (true, 4) => self.run_blocks::<true, 4, K>(color, shade4),
-            (true, 8) => self.run_blocks::<true, 8, K>(color, shade4),
-            (true, _) => self.run_blocks::<true, MAX_ATTRS, K>(color, shade4),
-            (false, 0) => self.run_blocks::<false, 0, K>(color, shade4),
-            (false, 4) => self.run_blocks::<false, 4, K>(color, shade4),
-            (false, 8) => self.run_blocks::<false, 8, K>(color, shade4),
-            (false, _) => self.run_blocks::<false, MAX_ATTRS, K>(color, shade4),
+            (true, 0) => self.run_blocks::<N, true, 0, K>(color, shade),
+            (true, 4) => self.run_blocks::<N, true, 4, K>(color, shade),
+            (true, 8) => self.run_blocks::<N, true, 8, K>(color, shade),
+            (true, _) => self.run_blocks::<N, true, MAX_ATTRS, K>(color, shade),
+            (false, 0) => self.run_blocks::<N, false, 0, K>(color, shade),
+            (false, 4) => self.run_blocks::<N, false, 4, K>(color, shade),
+            (false, 8) => self.run_blocks::<N, false, 8, K>(color, shade),
+            (false, _) => self.run_blocks::<N, false, MAX_ATTRS, K>(color, shade),
         }
     }
 
     /// [`ByPixel::shade`] stepping `L` attribute lanes ([`lanes`] of `self.n`).
     #[inline(always)]
-    fn run<const PERSPECTIVE: bool, const L: usize>(
+    fn run<const N: usize, const PERSPECTIVE: bool, const L: usize>(
         &self,
         color: &mut [Vec3],
-        shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+        shade4: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
     ) -> u64 {
         let width = self.width as usize;
         let mut shaded = 0;
-        let mut pending = Pending::new();
+        let mut pending = Pending::<usize, N>::new();
         for (row, &(lo, hi)) in self.extents.iter().enumerate() {
             let base = row * width;
             let (lo, hi) = (lo as usize, (hi as usize).min(width));
@@ -640,16 +643,16 @@ impl ByPixel<'_> {
     /// centroid of that triangle's samples. Each colour is written to every sample of its
     /// triangle in the block.
     #[inline(always)]
-    fn run_blocks<const PERSPECTIVE: bool, const L: usize, const K: usize>(
+    fn run_blocks<const N: usize, const PERSPECTIVE: bool, const L: usize, const K: usize>(
         &self,
         color: &mut [Vec3],
-        shade4: impl Fn(&[Attrs; 4], usize) -> [Vec3; 4],
+        shade4: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
     ) -> u64 {
         let kf = K as f64;
         let width = self.width as usize;
         let all = block_mask::<K>();
         let mut shaded = 0;
-        let mut pending = Pending::<BlockSamples>::new();
+        let mut pending = Pending::<BlockSamples, N>::new();
         for by in 0..self.extents.len() / K {
             let top = (self.y0 + (by * K) as i64) as f64;
             // The run of whole blocks being stepped, as in `run`, by K pixels a block.

@@ -94,6 +94,8 @@ pub struct FrameOptions {
     pub fast_phong: Option<phosphor_raster::FastPhongMethod>,
     /// Overrides the scene's `interpolation` (`--interpolation`).
     pub interpolation: Option<phosphor_raster::Interpolation>,
+    /// The vector width of per-pixel lighting (`--simd`; the same picture at every level).
+    pub simd: phosphor_raster::SimdLevel,
 }
 
 impl Default for FrameOptions {
@@ -107,6 +109,7 @@ impl Default for FrameOptions {
             gouraud_vertex_clamp: None,
             fast_phong: None,
             interpolation: None,
+            simd: phosphor_raster::SimdLevel::Auto,
         }
     }
 }

@@ -65,6 +65,7 @@ pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
             .unwrap_or(scene.settings.gouraud_vertex_clamp),
         fast_phong: opts.fast_phong.unwrap_or(scene.settings.fast_phong),
         interpolation: opts.interpolation.unwrap_or(scene.settings.interpolation),
+        simd: opts.simd,
     }
 }
 

@@ -40,12 +40,14 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     )?;
     let mut fb = framebuffer(width, height)?;
     let threads = threads(args.threads);
+    let simd = args.simd.simd().map_err(CliError::Usage)?;
     for choice in choices(args.shading) {
         let opts = FrameOptions {
             shading: Some(choice),
             threads,
             fast_phong: args.variants.fast_phong(),
             interpolation: args.variants.interpolation(),
+            simd,
             ..FrameOptions::default()
         };
         render_frame(&scene, &mut fb, &opts); // warm-up: caches, thread pool, tables

@@ -44,11 +44,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         (width, height),
         FRAMEBUFFER_BYTES_PER_PIXEL + sample_bytes_per_pixel(scene.settings.antialias),
     )?;
+    let simd = args.simd.simd().map_err(CliError::Usage)?;
     let opts = FrameOptions {
         shading: args.shading.map(shading_choice),
         threads: threads(args.threads),
         fast_phong: args.variants.fast_phong(),
         interpolation: args.variants.interpolation(),
+        simd,
         ..FrameOptions::default()
     };
     let encoding = match args.encoding {

@@ -6,5 +6,5 @@ mod lights;
 mod notes_equations;
 mod numerics;
 mod properties;
+mod shade_wide;
 mod support;
-mod wide4;

@@ -125,6 +125,17 @@ pub trait Mode: Sync {
         let _ = (attrs, count);
         [Vec3::ZERO; 4]
     }
+    /// With [`Passes::ByPixel`]: whether the by-pixel pass shades eight pixels per call
+    /// ([`Mode::shade8`]) rather than four. True only where eight lanes run as one vector
+    /// (AVX2 detected and chosen), so that the pictures are the same bits either way.
+    fn eight(&self) -> bool {
+        false
+    }
+    /// [`Mode::shade4`] of eight pixels (lanes past `count` repeat lane 0): by default two
+    /// calls of it.
+    fn shade8(&self, attrs: &[Attrs; 8], count: usize) -> [Vec3; 8] {
+        shade8_by_fours(self, attrs, count)
+    }
     /// With [`Passes::ByPixel`]: whether this triangle's pixels come from the by-pixel pass
     /// ([`Mode::shade4`] of its interpolated attributes). A triangle for which it is false is
     /// drawn by [`Mode::draw`] in a visible pass after it, over the pixels it owns (fast
@@ -142,6 +153,21 @@ pub trait Mode: Sync {
     fn is_fallback(_tri: &Self::Tri) -> bool {
         false
     }
+}
+
+/// [`Mode::shade8`] as two calls of [`Mode::shade4`].
+pub(crate) fn shade8_by_fours<M: Mode + ?Sized>(
+    mode: &M,
+    attrs: &[Attrs; 8],
+    count: usize,
+) -> [Vec3; 8] {
+    let lo: [Attrs; 4] = std::array::from_fn(|k| attrs[k]);
+    let hi: [Attrs; 4] = std::array::from_fn(|k| attrs[4 + k]);
+    let (lo, hi) = (
+        mode.shade4(&lo, count.min(4)),
+        mode.shade4(&hi, count.saturating_sub(4)),
+    );
+    std::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] })
 }
 
 /// Bits always compiled into a kernel (cheap, or free when the light set lacks them).
@@ -249,4 +275,6 @@ pub struct Lit<'a> {
     pub mat: Material,
     /// Viewer position (the camera eye).
     pub eye: Vec3,
+    /// The AVX2 token when per-pixel lighting runs eight lanes ([`crate::SimdLevel`]).
+    pub avx2: Option<crate::simd::Avx2>,
 }

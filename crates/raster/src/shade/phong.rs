@@ -3,9 +3,11 @@
 //! perturbed by the height field in the tangent frame first.
 
 use glam::{Vec2, Vec3, Vec4};
+#[cfg(target_arch = "x86_64")]
+use phosphor_lighting::{Vec3s, shade_lanes};
 use phosphor_lighting::{Vec3x4, f32x4, shade, shade_x4};
 
-use super::{Lit, Mode, Passes, TriVertices, VertexIn, get3, surface_attrs};
+use super::{Lit, Mode, Passes, TriVertices, VertexIn, get3, shade8_by_fours, surface_attrs};
 use crate::bump::BumpMap;
 use crate::clip::Attrs;
 use crate::scanline::{BandTarget, Kernel, traverse};
@@ -92,5 +94,46 @@ impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
     #[inline]
     fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
         self.shade_lanes(&(), attrs, count)
+    }
+    fn eight(&self) -> bool {
+        !BUMP && self.lit.avx2.is_some()
+    }
+    #[inline]
+    fn shade8(&self, attrs: &[Attrs; 8], count: usize) -> [Vec3; 8] {
+        #[cfg(target_arch = "x86_64")]
+        if let (false, Some(avx2)) = (BUMP, self.lit.avx2) {
+            return avx2.run(Shade8::<FX> {
+                lit: &self.lit,
+                attrs,
+            });
+        }
+        shade8_by_fours(self, attrs, count)
+    }
+}
+
+/// Eight pixels of `Phong` without bump mapping, as one AVX2 task.
+#[cfg(target_arch = "x86_64")]
+struct Shade8<'a, const FX: u32> {
+    lit: &'a Lit<'a>,
+    attrs: &'a [Attrs; 8],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<const FX: u32> phosphor_lighting::Avx2Task for Shade8<'_, FX> {
+    type Output = [Vec3; 8];
+    #[inline(always)]
+    fn run(self, s: phosphor_lighting::Avx2) -> [Vec3; 8] {
+        // Position and normal are attributes 0..6 of each pixel: one 8 x 8 transpose of the
+        // pixels' first eight attributes gives them as lanes.
+        let rows: [[f32; 8]; 8] = std::array::from_fn(|k| {
+            let mut row = [0.0; 8];
+            row.copy_from_slice(&self.attrs[k][..8]);
+            row
+        });
+        let c = s.transpose(rows);
+        let (p, n) = (Vec3s::new(c[0], c[1], c[2]), Vec3s::new(c[3], c[4], c[5]));
+        // Bit for bit `shade` in every lane.
+        let lit = self.lit;
+        shade_lanes::<FX, _>(lit.set, &lit.mat, p, n, lit.eye).to_vecs()
     }
 }

@@ -4,6 +4,7 @@ mod antialias;
 mod coverage;
 mod interpolation;
 mod modes;
+mod simd;
 mod stability;
 mod support;
 mod variants;

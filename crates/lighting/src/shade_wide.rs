@@ -1,17 +1,20 @@
-//! The illumination model four pixels at a time: [`shade_x4`] over [`Vec3x4`] (three
-//! [`f32x4`] lanes-of-four, structure of arrays), for the rasterizer's 2x2 quads and spans.
+//! The illumination model several pixels at a time, written once over [`Lanes`]:
+//! [`shade_lanes`] over [`Vec3s`] (three lane vectors, structure of arrays), with
+//! [`shade_x4`] on [`f32x4`] for the rasterizer's quads and spans and, on x86-64 CPUs with
+//! AVX2, eight lanes of [`F32x8`](crate::F32x8) inside [`Avx2::run`](crate::Avx2::run).
 //!
-//! Contract: in every lane `i`, `shade_x4::<FX>(set, mat, p, n, eye)` has exactly the bits of
-//! `shade::<FX>(set, mat, p[i], n[i], eye)`. The scalar model is mirrored operation by operation
-//! in the same order (IEEE add, mul, div and sqrt are correctly rounded in both), its branches
-//! become per-lane selects, and its rare paths (an overflowing squared length in
-//! `safe_normalize`, a non-integer or large shininess taking `powf`) call the scalar functions
-//! for the lanes that need them.
+//! Contract: in every lane `i`, `shade_lanes::<FX, L>(set, mat, p, n, eye)` has exactly the
+//! bits of `shade::<FX>(set, mat, p[i], n[i], eye)`, at every width. The scalar model is
+//! mirrored operation by operation in the same order (IEEE add, mul, div and sqrt are
+//! correctly rounded in both, and no lane type fuses a multiply-add), its branches become
+//! per-lane selects, and its rare paths (an overflowing squared length in `safe_normalize`, a
+//! non-integer or large shininess taking `powf`) call the scalar functions for the lanes that
+//! need them.
 //!
 //! Why the selects are bit-exact where the scalar code branches:
 //!
-//! * `x.max(c)` / `x.min(c)` with a constant `c` map NaN to `c`, as SSE's `maxps(x, c)` /
-//!   `minps(x, c)` do (they return the second operand when either is NaN). The one case they
+//! * `x.max(c)` / `x.min(c)` with a constant `c` map NaN to `c`, as SSE's and AVX's
+//!   `maxps(x, c)` / `minps(x, c)` do (they return the second operand when either is NaN). The one case they
 //!   may differ in, `max(-0.0, 0.0)`, cannot change a result: the sums the guards see start at
 //!   `+0.0` and `x + y` is `-0.0` only when both are, and a `-0.0` lobe or cone factor only ever
 //!   ends up added to such a sum.
@@ -19,19 +22,14 @@
 //!   the lane's sums untouched: its term is masked to `+0.0` before the add, and a sum is
 //!   never `-0.0` (it starts at `+0.0`, and `+0.0 + -0.0` is `+0.0`), so adding `+0.0` returns
 //!   it bit for bit, NaN and infinity included.
-//! * Negation flips the sign bit (wide's `-x` is `0 - x`, which turns `-(+0)` into `+0`).
+//! * Negation flips the sign bit (`0 - x` would turn `-(+0)` into `+0`).
 //!
 //! Cost: the lights' constants are splatted once per light per call and the Phong lobe
-//! `(V.R)^n` of an integer `n` is the scalar code's repeated squaring on four lanes, so the
+//! `(V.R)^n` of an integer `n` is the scalar code's repeated squaring across the lanes, so the
 //! common path (directional and point lights, Phong or Blinn, integer shininess, any
-//! attenuation, Fresnel or spot cone) has no per-lane scalar code at all. On S1 (three point
-//! lights with `1/(1+d)`, Phong `n_s = 32`, the rasterizer's `BASE | SPECULAR | ATTENUATION`
-//! instantiation, x86-64 baseline SSE2) one `shade_x4` call retires 214 instructions per
-//! pixel against 634 for `shade` (callgrind), and takes 77-104 ns against 300-308 ns for four
-//! `shade` calls (`cargo bench --bench lighting -- x4/ --quick`, 2-core machine under load:
-//! 2.9x to 4.0x). A light's terms are added masked to `+0.0` in the lanes that skip it (one AND
-//! per component) rather than selected against the old sums (three SSE2 operations per
-//! component without SSE4.1): 877 -> 836 instructions per call in S1's phong frame.
+//! attenuation, Fresnel or spot cone) has no per-lane scalar code at all. A light's terms are
+//! added masked to `+0.0` in the lanes that skip it (one AND per component) rather than
+//! selected against the old sums. Measured costs per width are in `docs/speed.md`.
 
 use std::ops::{Add, Mul, Sub};
 
@@ -39,44 +37,104 @@ use glam::Vec3;
 use phosphor_math::{
     MAX_SQUARING_EXPONENT, MIN_NORMALIZABLE_LENGTH_SQUARED, clamped_pow, safe_normalize,
 };
-pub use wide::f32x4;
-use wide::{CmpEq, CmpGe, CmpLe};
 
 use crate::attenuation::{MAX_LIGHT_DISTANCE, MIN_ATTENUATION_DENOMINATOR};
 use crate::effects::Effects;
 use crate::fresnel::Fresnel;
+use crate::lanes::{Lanes, f32x4};
 use crate::lightset::{LightSet, PreparedPoint};
 use crate::lobe::MIRROR_COS_TOLERANCE;
 use crate::material::{Material, SpecularModel};
 use crate::shade::{ShadeTerms, UNIT_NORMAL_TOLERANCE, finite_intensity};
 
-/// Four 3-vectors as three lanes of four: `x[i], y[i], z[i]` is vector `i`.
+/// `L::N` 3-vectors as three lane vectors: `x[i], y[i], z[i]` is vector `i`.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct Vec3x4 {
-    /// The four x components.
-    pub x: f32x4,
-    /// The four y components.
-    pub y: f32x4,
-    /// The four z components.
-    pub z: f32x4,
+pub struct Vec3s<L> {
+    /// The x components.
+    pub x: L,
+    /// The y components.
+    pub y: L,
+    /// The z components.
+    pub z: L,
+}
+
+/// Four 3-vectors in [`f32x4`] lanes.
+pub type Vec3x4 = Vec3s<f32x4>;
+
+/// Eight 3-vectors in AVX2 lanes.
+#[cfg(target_arch = "x86_64")]
+pub type Vec3x8 = Vec3s<crate::F32x8>;
+
+impl<L: Lanes> Vec3s<L> {
+    /// From the three component lanes.
+    #[inline(always)]
+    #[must_use]
+    pub const fn new(x: L, y: L, z: L) -> Vec3s<L> {
+        Vec3s { x, y, z }
+    }
+
+    /// `v` in every lane, lanes of the kind of `like`.
+    #[inline(always)]
+    #[must_use]
+    pub fn broadcast(like: L, v: Vec3) -> Vec3s<L> {
+        Vec3s::new(like.splat(v.x), like.splat(v.y), like.splat(v.z))
+    }
+
+    /// Lane `i` of each component as a `Vec3`, `L::N` of them then zeros.
+    #[inline(always)]
+    #[must_use]
+    pub fn to_vecs(self) -> [Vec3; 8] {
+        let (x, y, z) = (self.x.to_lanes(), self.y.to_lanes(), self.z.to_lanes());
+        std::array::from_fn(|i| Vec3::new(x[i], y[i], z[i]))
+    }
+
+    /// Lane `i` holds `v[i]` (`i < L::N`), lanes of the kind of `like`.
+    #[inline(always)]
+    #[must_use]
+    pub fn from_vecs(like: L, v: [Vec3; 8]) -> Vec3s<L> {
+        Vec3s::new(
+            like.with_lanes(v.map(|v| v.x)),
+            like.with_lanes(v.map(|v| v.y)),
+            like.with_lanes(v.map(|v| v.z)),
+        )
+    }
+
+    /// Per-lane dot product, `x x' + y y' + z z'` left to right (as glam's `Vec3::dot`).
+    #[inline(always)]
+    #[must_use]
+    pub fn dot(self, rhs: Vec3s<L>) -> L {
+        self.x * rhs.x + self.y * rhs.y + self.z * rhs.z
+    }
+
+    /// Per-lane squared length (`self.dot(self)`).
+    #[inline(always)]
+    #[must_use]
+    pub fn length_squared(self) -> L {
+        self.dot(self)
+    }
+
+    /// Lane by lane: `t` where `mask` is all ones, `f` where it is all zeros (masks come from
+    /// lane comparisons).
+    #[inline(always)]
+    #[must_use]
+    pub fn select(mask: L, t: Vec3s<L>, f: Vec3s<L>) -> Vec3s<L> {
+        Vec3s::new(
+            mask.blend(t.x, f.x),
+            mask.blend(t.y, f.y),
+            mask.blend(t.z, f.z),
+        )
+    }
 }
 
 impl Vec3x4 {
     /// All lanes zero.
     pub const ZERO: Vec3x4 = Vec3x4::splat(Vec3::ZERO);
 
-    /// From the three component lanes.
-    #[inline]
-    #[must_use]
-    pub const fn new(x: f32x4, y: f32x4, z: f32x4) -> Vec3x4 {
-        Vec3x4 { x, y, z }
-    }
-
     /// `v` in all four lanes.
     #[inline]
     #[must_use]
     pub const fn splat(v: Vec3) -> Vec3x4 {
-        Vec3x4 {
+        Vec3s {
             x: f32x4::new([v.x; 4]),
             y: f32x4::new([v.y; 4]),
             z: f32x4::new([v.z; 4]),
@@ -87,7 +145,7 @@ impl Vec3x4 {
     #[inline]
     #[must_use]
     pub const fn from_array(v: [Vec3; 4]) -> Vec3x4 {
-        Vec3x4 {
+        Vec3s {
             x: f32x4::new([v[0].x, v[1].x, v[2].x, v[3].x]),
             y: f32x4::new([v[0].y, v[1].y, v[2].y, v[3].y]),
             z: f32x4::new([v[0].z, v[1].z, v[2].z, v[3].z]),
@@ -115,32 +173,6 @@ impl Vec3x4 {
             self.z.to_array()[i],
         )
     }
-
-    /// Per-lane dot product, `x x' + y y' + z z'` left to right (as glam's `Vec3::dot`).
-    #[inline]
-    #[must_use]
-    pub fn dot(self, rhs: Vec3x4) -> f32x4 {
-        self.x * rhs.x + self.y * rhs.y + self.z * rhs.z
-    }
-
-    /// Per-lane squared length (`self.dot(self)`).
-    #[inline]
-    #[must_use]
-    pub fn length_squared(self) -> f32x4 {
-        self.dot(self)
-    }
-
-    /// Lane by lane: `t` where `mask` is all ones, `f` where it is all zeros (masks come from
-    /// `f32x4` comparisons).
-    #[inline]
-    #[must_use]
-    pub fn select(mask: f32x4, t: Vec3x4, f: Vec3x4) -> Vec3x4 {
-        Vec3x4 {
-            x: mask.blend(t.x, f.x),
-            y: mask.blend(t.y, f.y),
-            z: mask.blend(t.z, f.z),
-        }
-    }
 }
 
 impl From<[Vec3; 4]> for Vec3x4 {
@@ -157,37 +189,38 @@ impl From<Vec3x4> for [Vec3; 4] {
     }
 }
 
-impl Add for Vec3x4 {
-    type Output = Vec3x4;
-    #[inline]
-    fn add(self, rhs: Vec3x4) -> Vec3x4 {
-        Vec3x4::new(self.x + rhs.x, self.y + rhs.y, self.z + rhs.z)
+impl<L: Lanes> Add for Vec3s<L> {
+    type Output = Vec3s<L>;
+    #[inline(always)]
+    fn add(self, rhs: Vec3s<L>) -> Vec3s<L> {
+        Vec3s::new(self.x + rhs.x, self.y + rhs.y, self.z + rhs.z)
     }
 }
 
-impl Sub for Vec3x4 {
-    type Output = Vec3x4;
-    #[inline]
-    fn sub(self, rhs: Vec3x4) -> Vec3x4 {
-        Vec3x4::new(self.x - rhs.x, self.y - rhs.y, self.z - rhs.z)
+impl<L: Lanes> Sub for Vec3s<L> {
+    type Output = Vec3s<L>;
+    #[inline(always)]
+    fn sub(self, rhs: Vec3s<L>) -> Vec3s<L> {
+        Vec3s::new(self.x - rhs.x, self.y - rhs.y, self.z - rhs.z)
     }
 }
 
 /// Component-wise product (glam's `Vec3 * Vec3`).
-impl Mul for Vec3x4 {
-    type Output = Vec3x4;
-    #[inline]
-    fn mul(self, rhs: Vec3x4) -> Vec3x4 {
-        Vec3x4::new(self.x * rhs.x, self.y * rhs.y, self.z * rhs.z)
+impl<L: Lanes> Mul for Vec3s<L> {
+    type Output = Vec3s<L>;
+    #[inline(always)]
+    fn mul(self, rhs: Vec3s<L>) -> Vec3s<L> {
+        Vec3s::new(self.x * rhs.x, self.y * rhs.y, self.z * rhs.z)
     }
 }
 
-/// Each component times the lane's scalar (glam's `Vec3 * f32`).
-impl Mul<f32x4> for Vec3x4 {
-    type Output = Vec3x4;
-    #[inline]
-    fn mul(self, rhs: f32x4) -> Vec3x4 {
-        Vec3x4::new(self.x * rhs, self.y * rhs, self.z * rhs)
+/// Each component times the lane's scalar (glam's `Vec3 * f32`; IEEE products commute, so
+/// this is also `f32 * Vec3`).
+impl<L: Lanes> Mul<L> for Vec3s<L> {
+    type Output = Vec3s<L>;
+    #[inline(always)]
+    fn mul(self, rhs: L) -> Vec3s<L> {
+        Vec3s::new(self.x * rhs, self.y * rhs, self.z * rhs)
     }
 }
 
@@ -196,120 +229,91 @@ impl Mul<Vec3x4> for f32x4 {
     type Output = Vec3x4;
     #[inline]
     fn mul(self, rhs: Vec3x4) -> Vec3x4 {
-        Vec3x4::new(self * rhs.x, self * rhs.y, self * rhs.z)
+        Vec3s::new(self * rhs.x, self * rhs.y, self * rhs.z)
     }
 }
-
-const ZERO: f32x4 = f32x4::ZERO;
-const ONE: f32x4 = f32x4::ONE;
-
-/// Scalar `x.max(c)` for a non-NaN `c` on each lane: NaN lanes give `c` (see the module docs
-/// for the `-0.0` tie). SSE's `maxps(x, c)` is exactly that; elsewhere compare and select.
-#[inline(always)]
-fn max_c(x: f32x4, c: f32x4) -> f32x4 {
-    #[cfg(target_feature = "sse")]
-    {
-        x.fast_max(c)
-    }
-    #[cfg(not(target_feature = "sse"))]
-    {
-        use wide::CmpGt;
-        x.cmp_gt(c).blend(x, c)
-    }
-}
-
-/// Scalar `x.min(c)` for a non-NaN `c` on each lane: NaN lanes give `c`.
-#[inline(always)]
-fn min_c(x: f32x4, c: f32x4) -> f32x4 {
-    #[cfg(target_feature = "sse")]
-    {
-        x.fast_min(c)
-    }
-    #[cfg(not(target_feature = "sse"))]
-    {
-        use wide::CmpLt;
-        x.cmp_lt(c).blend(x, c)
-    }
-}
-
-/// Every bit set: a lane mask of all lanes.
-const ALL_ONES: f32x4 = f32x4::new([f32::from_bits(u32::MAX); 4]);
 
 /// `v` in the lanes set in `mask`, `+0.0` in the others: one AND per component. Adding it to
-/// a sum is exactly [`Vec3x4::select`] of the sum and the new sum, because the sums here start
+/// a sum is exactly [`Vec3s::select`] of the sum and the new sum, because the sums here start
 /// at `+0.0` and so are never `-0.0`, and `x + (+0.0)` is `x` for every other `x` (NaN
 /// payloads and infinities included), where a select costs three SSE2 operations per
 /// component.
 #[inline(always)]
-fn masked(mask: f32x4, v: Vec3x4) -> Vec3x4 {
-    Vec3x4::new(v.x & mask, v.y & mask, v.z & mask)
+fn masked<L: Lanes>(mask: L, v: Vec3s<L>) -> Vec3s<L> {
+    Vec3s::new(v.x & mask, v.y & mask, v.z & mask)
 }
 
 /// `-x` by flipping the sign bit (`-(+0) = -0`, unlike `0 - x`).
 #[inline(always)]
-fn neg(x: f32x4) -> f32x4 {
-    x ^ f32x4::splat(-0.0)
+fn neg<L: Lanes>(x: L) -> L {
+    x ^ x.splat(-0.0)
 }
 
 /// [`finite_intensity`] per lane.
 #[inline(always)]
-fn finite_x4(v: Vec3x4) -> Vec3x4 {
-    let (lo, hi) = (ZERO, f32x4::splat(f32::MAX));
-    Vec3x4::new(
-        min_c(max_c(v.x, lo), hi),
-        min_c(max_c(v.y, lo), hi),
-        min_c(max_c(v.z, lo), hi),
+fn finite_lanes<L: Lanes>(v: Vec3s<L>) -> Vec3s<L> {
+    let (lo, hi) = (v.x.splat(0.0), v.x.splat(f32::MAX));
+    Vec3s::new(
+        v.x.max_c(lo).min_c(hi),
+        v.y.max_c(lo).min_c(hi),
+        v.z.max_c(lo).min_c(hi),
     )
 }
 
 /// `safe_normalize(v[i], fallback[i])` per lane, with `sqrt(|v|^2)` per lane (the `d` of
 /// `towards`, whichever branch it takes).
 #[inline(always)]
-fn safe_normalize_x4(v: Vec3x4, fallback: Vec3x4) -> (Vec3x4, f32x4) {
+fn safe_normalize_lanes<L: Lanes>(v: Vec3s<L>, fallback: Vec3s<L>) -> (Vec3s<L>, L) {
     let len_sq = v.length_squared();
     let len = len_sq.sqrt();
-    let unit = v * (ONE / len);
+    let unit = v * (len.splat(1.0) / len);
     // A finite squared length means finite components; NaN fails both comparisons.
-    let plain = len_sq.cmp_ge(f32x4::splat(MIN_NORMALIZABLE_LENGTH_SQUARED))
-        & len_sq.cmp_le(f32x4::splat(f32::MAX));
+    let plain = len_sq.cmp_ge(len.splat(MIN_NORMALIZABLE_LENGTH_SQUARED))
+        & len_sq.cmp_le(len.splat(f32::MAX));
     if plain.all() {
         return (unit, len);
     }
-    let out = Vec3x4::select(plain, unit, fallback);
+    let out = Vec3s::select(plain, unit, fallback);
     // An infinite squared length is either an infinite component (fallback) or an overflow
     // that safe_normalize rescales: both rare, both left to the scalar function.
-    let overflow = len_sq.cmp_eq(f32x4::splat(f32::INFINITY));
+    let overflow = len_sq.cmp_eq(len.splat(f32::INFINITY));
     if overflow.any() {
-        return (scalar_lanes(overflow, v, fallback, out), len);
+        let fixed = scalar_lanes(
+            overflow.mask_bits(),
+            v.to_vecs(),
+            fallback.to_vecs(),
+            out.to_vecs(),
+        );
+        return (Vec3s::from_vecs(len, fixed), len);
     }
     (out, len)
 }
 
-/// `out` with the lanes set in `mask` replaced by the scalar `safe_normalize`.
+/// `out` with the lanes set in `bits` replaced by the scalar `safe_normalize`.
 #[cold]
 #[inline(never)]
-fn scalar_lanes(mask: f32x4, v: Vec3x4, fallback: Vec3x4, out: Vec3x4) -> Vec3x4 {
-    let bits = mask.move_mask();
-    let (v, fallback, mut out) = (v.to_array(), fallback.to_array(), out.to_array());
-    for i in 0..4 {
+fn scalar_lanes(bits: u32, v: [Vec3; 8], fallback: [Vec3; 8], mut out: [Vec3; 8]) -> [Vec3; 8] {
+    for i in 0..8 {
         if bits & (1 << i) != 0 {
             out[i] = safe_normalize(v[i], fallback[i]);
         }
     }
-    Vec3x4::from_array(out)
+    out
 }
 
 /// `unit_normal` of the scalar model per lane: `n` where `| |n|^2 - 1 | <= tolerance`, else
 /// `safe_normalize(n, 0)`.
 #[inline(always)]
-fn unit_normal_x4(n: Vec3x4) -> Vec3x4 {
-    let given = (n.length_squared() - ONE)
+fn unit_normal_lanes<L: Lanes>(n: Vec3s<L>) -> Vec3s<L> {
+    let w = n.x;
+    let given = (n.length_squared() - w.splat(1.0))
         .abs()
-        .cmp_le(f32x4::splat(UNIT_NORMAL_TOLERANCE));
+        .cmp_le(w.splat(UNIT_NORMAL_TOLERANCE));
     if given.all() {
         return n;
     }
-    Vec3x4::select(given, n, safe_normalize_x4(n, Vec3x4::ZERO).0)
+    let zero = Vec3s::broadcast(w, Vec3::ZERO);
+    Vec3s::select(given, n, safe_normalize_lanes(n, zero).0)
 }
 
 /// How `specular_lobe(base, shininess)` evaluates, decided once per call.
@@ -351,23 +355,23 @@ impl Power {
 
     /// `specular_lobe(base[i], shininess)` per lane.
     #[inline(always)]
-    fn pow(self, base: f32x4) -> f32x4 {
+    fn pow<L: Lanes>(self, base: L) -> L {
         match self {
-            Power::Squaring(0) => ONE,
+            Power::Squaring(0) => base.splat(1.0),
             Power::Squaring(n) => {
                 // The scalar loop squares `b` while bits remain and multiplies the accumulator
                 // (from 1.0) by `b` at each set bit. Its first product is 1.0 * b, exactly b:
                 // square up to the lowest set bit, take b, then run the same loop on the rest.
-                let mut b = min_c(max_c(base, ZERO), ONE);
+                let mut b = base.max_c(base.splat(0.0)).min_c(base.splat(1.0));
                 for _ in 0..n.trailing_zeros() {
-                    b *= b;
+                    b = b * b;
                 }
                 let mut acc = b;
                 let mut rest = n >> n.trailing_zeros() >> 1;
                 while rest > 0 {
-                    b *= b;
+                    b = b * b;
                     if rest & 1 == 1 {
-                        acc *= b;
+                        acc = acc * b;
                     }
                     rest >>= 1;
                 }
@@ -376,51 +380,52 @@ impl Power {
             Power::Powf(e) => powf_lanes(base, e),
             // `mirror_lobe`'s `>=` per lane: false for NaN, as in the scalar code.
             Power::Mirror => base
-                .cmp_ge(f32x4::splat(1.0 - MIRROR_COS_TOLERANCE))
-                .blend(ONE, ZERO),
+                .cmp_ge(base.splat(1.0 - MIRROR_COS_TOLERANCE))
+                .blend(base.splat(1.0), base.splat(0.0)),
         }
     }
 }
 
 /// `clamped_pow(base[i], e)` per lane (the non-integer shininess path).
 #[inline(never)]
-fn powf_lanes(base: f32x4, e: f32) -> f32x4 {
-    f32x4::new(base.to_array().map(|b| clamped_pow(b, e)))
+fn powf_lanes<L: Lanes>(base: L, e: f32) -> L {
+    base.with_lanes(base.to_lanes().map(|b| clamped_pow(b, e)))
 }
 
 /// `W(theta)` of the material, prepared once per call.
 #[derive(Clone, Copy)]
-enum FresnelX4 {
+enum FresnelLanes<L> {
     /// `W = 1` (no multiplication: `1.0 * lobe` is `lobe`).
     One,
     /// `W = w`.
-    Constant(f32x4),
+    Constant(L),
     /// Schlick with `f0` and `1 - f0`.
-    Schlick(f32x4, f32x4),
+    Schlick(L, L),
 }
 
-impl FresnelX4 {
+impl<L: Lanes> FresnelLanes<L> {
     #[inline(always)]
-    fn of<const FX: u32>(mat: &Material) -> FresnelX4 {
+    fn of<const FX: u32>(like: L, mat: &Material) -> FresnelLanes<L> {
         if !has(FX, Effects::FRESNEL) {
-            return FresnelX4::One;
+            return FresnelLanes::One;
         }
         match mat.fresnel {
             // `Fresnel::w` returns 1.0 here and the scalar code multiplies by it: exact.
-            Fresnel::None => FresnelX4::One,
-            Fresnel::Constant { w } => FresnelX4::Constant(f32x4::splat(w)),
-            Fresnel::Schlick { f0 } => FresnelX4::Schlick(f32x4::splat(f0), f32x4::splat(1.0 - f0)),
+            Fresnel::None => FresnelLanes::One,
+            Fresnel::Constant { w } => FresnelLanes::Constant(like.splat(w)),
+            Fresnel::Schlick { f0 } => FresnelLanes::Schlick(like.splat(f0), like.splat(1.0 - f0)),
         }
     }
 
     /// `W(n_dot_l) * lobe` per lane.
     #[inline(always)]
-    fn times(self, n_dot_l: f32x4, lobe: f32x4) -> f32x4 {
+    fn times(self, n_dot_l: L, lobe: L) -> L {
         match self {
-            FresnelX4::One => lobe,
-            FresnelX4::Constant(w) => w * lobe,
-            FresnelX4::Schlick(f0, one_minus_f0) => {
-                let m = ONE - min_c(max_c(n_dot_l, ZERO), ONE);
+            FresnelLanes::One => lobe,
+            FresnelLanes::Constant(w) => w * lobe,
+            FresnelLanes::Schlick(f0, one_minus_f0) => {
+                let one = lobe.splat(1.0);
+                let m = one - n_dot_l.max_c(lobe.splat(0.0)).min_c(one);
                 let m2 = m * m;
                 (f0 + one_minus_f0 * (m2 * m2 * m)) * lobe
             }
@@ -434,34 +439,34 @@ const fn has(fx: u32, effect: Effects) -> bool {
 }
 
 /// The per-call constants of the light loop and the running sums.
-struct Sums {
-    n: Vec3x4,
-    v: Vec3x4,
+struct Sums<L> {
+    n: Vec3s<L>,
+    v: Vec3s<L>,
     /// Lanes whose normal is zero: the scalar model returned before the lights.
-    dark: f32x4,
-    kd: Vec3x4,
-    ks: Vec3x4,
+    dark: L,
+    kd: Vec3s<L>,
+    ks: Vec3s<L>,
     specular_model: SpecularModel,
     power: Power,
-    fresnel: FresnelX4,
-    diffuse: Vec3x4,
-    specular: Vec3x4,
+    fresnel: FresnelLanes<L>,
+    diffuse: Vec3s<L>,
+    specular: Vec3s<L>,
 }
 
-impl Sums {
+impl<L: Lanes> Sums<L> {
     /// One light's `kd Il (N.L) + ks W Il_spec lobe^n` per lane, `il` already attenuated;
     /// lanes with `N.L <= 0` (or a zero normal) keep their sums.
     #[inline(always)]
-    fn add<const FX: u32>(&mut self, l: Vec3x4, il: Vec3x4, il_s: Vec3x4) {
+    fn add<const FX: u32>(&mut self, l: Vec3s<L>, il: Vec3s<L>, il_s: Vec3s<L>) {
         let n_dot_l = self.n.dot(l);
         // `<=` is false for NaN, which the scalar code does not skip either.
-        let skip = n_dot_l.cmp_le(ZERO) | self.dark;
+        let skip = n_dot_l.cmp_le(n_dot_l.splat(0.0)) | self.dark;
         if skip.all() {
             return;
         }
-        let keep = skip ^ ALL_ONES;
+        let keep = skip ^ skip.splat(f32::from_bits(u32::MAX));
         if has(FX, Effects::DIFFUSE) {
-            let term = Vec3x4::new(
+            let term = Vec3s::new(
                 (self.kd.x * n_dot_l) * il.x,
                 (self.kd.y * n_dot_l) * il.y,
                 (self.kd.z * n_dot_l) * il.z,
@@ -472,14 +477,14 @@ impl Sums {
             let base = match self.specular_model {
                 SpecularModel::Phong => {
                     // reflect(n, l) = 2 (N.L) N - L, then R.V.
-                    let r = ((f32x4::splat(2.0) * n_dot_l) * self.n) - l;
+                    let r = (self.n * (n_dot_l.splat(2.0) * n_dot_l)) - l;
                     r.dot(self.v)
                 }
-                SpecularModel::Blinn => self.n.dot(safe_normalize_x4(l + self.v, self.n).0),
+                SpecularModel::Blinn => self.n.dot(safe_normalize_lanes(l + self.v, self.n).0),
             };
             let lobe = self.power.pow(base);
             let w_lobe = self.fresnel.times(n_dot_l, lobe);
-            let term = Vec3x4::new(
+            let term = Vec3s::new(
                 (self.ks.x * w_lobe) * il_s.x,
                 (self.ks.y * w_lobe) * il_s.y,
                 (self.ks.z * w_lobe) * il_s.z,
@@ -491,10 +496,10 @@ impl Sums {
     /// A positional light: direction and attenuated intensities as `towards` gives them,
     /// times `cone` (the spot factor) when given.
     #[inline(always)]
-    fn add_point<const FX: u32>(&mut self, light: &PreparedPoint, p: Vec3x4, cone: Cone) {
-        let delta = Vec3x4::splat(light.position) - p;
-        let (l, d) = safe_normalize_x4(delta, self.n);
-        let mut f = has(FX, Effects::ATTENUATION).then(|| attenuation_x4(light.attenuation, d));
+    fn add_point<const FX: u32>(&mut self, light: &PreparedPoint, p: Vec3s<L>, cone: Cone) {
+        let delta = Vec3s::broadcast(p.x, light.position) - p;
+        let (l, d) = safe_normalize_lanes(delta, self.n);
+        let mut f = has(FX, Effects::ATTENUATION).then(|| attenuation_lanes(light.attenuation, d));
         if let Cone::Spot {
             axis,
             cos_outer,
@@ -502,14 +507,17 @@ impl Sums {
         } = cone
         {
             // cos_angle = -(L.axis); smoothstep as in `spot_cone`.
-            let cos_angle = neg(l.dot(Vec3x4::splat(axis)));
-            let t = (cos_angle - f32x4::splat(cos_outer)) * f32x4::splat(inv_cos_width);
-            let t = min_c(max_c(t, ZERO), ONE);
-            let cone = t * t * (f32x4::splat(3.0) - f32x4::splat(2.0) * t);
+            let cos_angle = neg(l.dot(Vec3s::broadcast(d, axis)));
+            let t = (cos_angle - d.splat(cos_outer)) * d.splat(inv_cos_width);
+            let t = t.max_c(d.splat(0.0)).min_c(d.splat(1.0));
+            let cone = t * t * (d.splat(3.0) - d.splat(2.0) * t);
             // Without attenuation the scalar factor is 1.0, and 1.0 * cone is cone.
             f = Some(f.map_or(cone, |f| f * cone));
         }
-        let (il, il_s) = (Vec3x4::splat(light.il), Vec3x4::splat(light.il_specular));
+        let (il, il_s) = (
+            Vec3s::broadcast(d, light.il),
+            Vec3s::broadcast(d, light.il_specular),
+        );
         match f {
             Some(f) => self.add::<FX>(l, il * f, il_s * f),
             // `il * 1.0` is `il`.
@@ -531,10 +539,10 @@ enum Cone {
 
 /// `factor_from_coefficients([c, l, q], d[i])` per lane.
 #[inline(always)]
-fn attenuation_x4([c, l, q]: [f32; 3], d: f32x4) -> f32x4 {
-    let d = max_c(min_c(d, f32x4::splat(MAX_LIGHT_DISTANCE)), ZERO);
-    let denominator = f32x4::splat(c) + f32x4::splat(l) * d + f32x4::splat(q) * (d * d);
-    ONE / max_c(denominator, f32x4::splat(MIN_ATTENUATION_DENOMINATOR))
+fn attenuation_lanes<L: Lanes>([c, l, q]: [f32; 3], d: L) -> L {
+    let d = d.min_c(d.splat(MAX_LIGHT_DISTANCE)).max_c(d.splat(0.0));
+    let denominator = d.splat(c) + d.splat(l) * d + d.splat(q) * (d * d);
+    d.splat(1.0) / denominator.max_c(d.splat(MIN_ATTENUATION_DENOMINATOR))
 }
 
 /// [`shade`](crate::shade()) at four surface points at once: lane `i` of the result has exactly
@@ -564,6 +572,44 @@ pub fn shade_x4<const FX: u32>(
     n: Vec3x4,
     eye: Vec3,
 ) -> Vec3x4 {
+    shade_lanes::<FX, f32x4>(set, mat, p, n, eye)
+}
+
+/// [`shade`](crate::shade()) at `L::N` surface points at once: lane `i` of the result has
+/// exactly the bits of `shade::<FX>(set, mat, p[i], n[i], eye)`, at every lane width (see the
+/// module docs for how). Inlined always, so that inside [`Avx2::run`](crate::Avx2::run) it
+/// compiles to AVX2.
+///
+/// ```
+/// use glam::Vec3;
+/// use phosphor_lighting::{Effects, LightSet, Material, Vec3s, shade, shade_lanes};
+///
+/// const FX: u32 = Effects::AMBIENT.bits() | Effects::DIFFUSE.bits() | Effects::SPECULAR.bits();
+/// let (set, mat, eye) = (LightSet::s1(), Material::s1(), Vec3::new(0.0, 0.0, 3.0));
+/// let n: [Vec3; 8] = std::array::from_fn(|i| Vec3::new(i as f32 * 0.1, 0.2, 1.0).normalize());
+/// let p = n.map(|n| n * 0.5);
+/// # #[cfg(target_arch = "x86_64")]
+/// if let Some(avx2) = phosphor_lighting::Avx2::detect() {
+///     let lit = avx2.run(|s: phosphor_lighting::Avx2| {
+///         let w = s.splat(0.0);
+///         let (p, n) = (Vec3s::from_vecs(w, p), Vec3s::from_vecs(w, n));
+///         shade_lanes::<FX, _>(&set, &mat, p, n, eye).to_vecs()
+///     });
+///     for i in 0..8 {
+///         assert_eq!(lit[i], shade::<FX>(&set, &mat, p[i], n[i], eye));
+///     }
+/// }
+/// ```
+#[inline(always)]
+#[must_use]
+pub fn shade_lanes<const FX: u32, L: Lanes>(
+    set: &LightSet,
+    mat: &Material,
+    p: Vec3s<L>,
+    n: Vec3s<L>,
+    eye: Vec3,
+) -> Vec3s<L> {
+    let w = p.x;
     // The ambient terms do not depend on the lane: the scalar code's, splatted.
     let mut ambient = Vec3::ZERO;
     if has(FX, Effects::EMISSION) {
@@ -579,31 +625,32 @@ pub fn shade_x4<const FX: u32>(
     }
     .total();
     if !has(FX, Effects::DIFFUSE) && !has(FX, Effects::SPECULAR) {
-        return Vec3x4::splat(unlit);
+        return Vec3s::broadcast(w, unlit);
     }
-    let n = unit_normal_x4(n);
-    let dark = n.x.cmp_eq(ZERO) & n.y.cmp_eq(ZERO) & n.z.cmp_eq(ZERO);
+    let n = unit_normal_lanes(n);
+    let zero = w.splat(0.0);
+    let dark = n.x.cmp_eq(zero) & n.y.cmp_eq(zero) & n.z.cmp_eq(zero);
     if dark.all() {
-        return Vec3x4::splat(unlit);
+        return Vec3s::broadcast(w, unlit);
     }
-    let (v, _) = safe_normalize_x4(Vec3x4::splat(eye) - p, n);
+    let (v, _) = safe_normalize_lanes(Vec3s::broadcast(w, eye) - p, n);
     let mut acc = Sums {
         n,
         v,
         dark,
-        kd: Vec3x4::splat(mat.kd),
-        ks: Vec3x4::splat(mat.ks),
+        kd: Vec3s::broadcast(w, mat.kd),
+        ks: Vec3s::broadcast(w, mat.ks),
         specular_model: mat.specular,
         power: Power::of(mat.shininess),
-        fresnel: FresnelX4::of::<FX>(mat),
-        diffuse: Vec3x4::ZERO,
-        specular: Vec3x4::ZERO,
+        fresnel: FresnelLanes::of::<FX>(w, mat),
+        diffuse: Vec3s::broadcast(w, Vec3::ZERO),
+        specular: Vec3s::broadcast(w, Vec3::ZERO),
     };
     for light in set.directional() {
         acc.add::<FX>(
-            Vec3x4::splat(light.to_light),
-            Vec3x4::splat(light.il),
-            Vec3x4::splat(light.il_specular),
+            Vec3s::broadcast(w, light.to_light),
+            Vec3s::broadcast(w, light.il),
+            Vec3s::broadcast(w, light.il_specular),
         );
     }
     for light in set.points() {
@@ -624,8 +671,8 @@ pub fn shade_x4<const FX: u32>(
             acc.add_point::<FX>(light, p, Cone::None);
         }
     }
-    let ambient = Vec3x4::splat(ambient);
-    finite_x4(ambient + finite_x4(acc.diffuse) + finite_x4(acc.specular))
+    let ambient = Vec3s::broadcast(w, ambient);
+    finite_lanes(ambient + finite_lanes(acc.diffuse) + finite_lanes(acc.specular))
 }
 
 #[cfg(test)]
@@ -683,8 +730,8 @@ mod tests {
     fn min_max_and_neg_follow_the_scalar_semantics() {
         let x = f32x4::new([f32::NAN, -1.0, 2.0, f32::INFINITY]);
         let one = f32x4::splat(1.0);
-        assert_eq!(max_c(x, one).to_array(), [1.0, 1.0, 2.0, f32::INFINITY]);
-        assert_eq!(min_c(x, one).to_array(), [1.0, -1.0, 1.0, 1.0]);
+        assert_eq!(x.max_c(one).to_array(), [1.0, 1.0, 2.0, f32::INFINITY]);
+        assert_eq!(x.min_c(one).to_array(), [1.0, -1.0, 1.0, 1.0]);
         let z = neg(f32x4::new([0.0, -0.0, 1.0, -2.0])).to_array();
         assert_eq!(
             z.map(f32::to_bits),

@@ -1,4 +1,5 @@
-//! `shade_x4` against four scalar `shade` calls: the same bits in every lane and channel, for
+//! `shade_x4` against four scalar `shade` calls, and on CPUs with AVX2 the eight-lane
+//! `shade_lanes` against eight: the same bits in every lane and channel, for
 //! the rasterizer's effect sets, random lights and materials (valid and not), and the edge
 //! inputs each scalar branch exists for (zero, tiny, huge, non-unit, NaN and infinite normals,
 //! a point at a light, the eye at the point).
@@ -8,6 +9,8 @@ use proptest::prelude::*;
 
 use super::support::{Rng, random_attenuation, random_light, random_material};
 use crate::{Effects, Fresnel, Light, LightKind, LightSet, Material, Vec3x4, shade, shade_x4};
+#[cfg(target_arch = "x86_64")]
+use crate::{Vec3s, shade_lanes};
 
 const BASE: u32 = Effects::AMBIENT.bits()
     | Effects::DIFFUSE.bits()
@@ -18,8 +21,42 @@ const S: u32 = Effects::SPECULAR.bits();
 const A: u32 = Effects::ATTENUATION.bits();
 const F: u32 = Effects::FRESNEL.bits();
 
-/// Lane-by-lane, channel-by-channel bit equality with the scalar model.
+/// Lane-by-lane, channel-by-channel bit equality with the scalar model, at four lanes and
+/// (where the CPU has AVX2) eight.
 fn check<const FX: u32>(set: &LightSet, mat: &Material, p: [Vec3; 4], n: [Vec3; 4], eye: Vec3) {
+    check4::<FX>(set, mat, p, n, eye);
+    #[cfg(target_arch = "x86_64")]
+    check8::<FX>(set, mat, p, n, eye);
+}
+
+/// Eight lanes: the four points, then the same four in reverse order (so that every lane
+/// position sees every kind of input).
+#[cfg(target_arch = "x86_64")]
+fn check8<const FX: u32>(set: &LightSet, mat: &Material, p: [Vec3; 4], n: [Vec3; 4], eye: Vec3) {
+    let Some(avx2) = crate::Avx2::detect() else {
+        return;
+    };
+    let eight =
+        |v: [Vec3; 4]| -> [Vec3; 8] { std::array::from_fn(|i| v[if i < 4 { i } else { 7 - i }]) };
+    let (p8, n8) = (eight(p), eight(n));
+    let wide = avx2.run(|s: crate::Avx2| {
+        let w = s.splat(0.0);
+        let (p, n) = (Vec3s::from_vecs(w, p8), Vec3s::from_vecs(w, n8));
+        shade_lanes::<FX, _>(set, mat, p, n, eye).to_vecs()
+    });
+    for i in 0..8 {
+        let one = shade::<FX>(set, mat, p8[i], n8[i], eye);
+        assert_eq!(
+            wide[i].to_array().map(f32::to_bits),
+            one.to_array().map(f32::to_bits),
+            "FX {FX:#x} lane {i} of 8: x8 {} vs scalar {}\np {p8:?}\nn {n8:?}\neye {eye}",
+            wide[i],
+            one,
+        );
+    }
+}
+
+fn check4<const FX: u32>(set: &LightSet, mat: &Material, p: [Vec3; 4], n: [Vec3; 4], eye: Vec3) {
     let wide = shade_x4::<FX>(set, mat, Vec3x4::from(p), Vec3x4::from(n), eye).to_array();
     for i in 0..4 {
         let one = shade::<FX>(set, mat, p[i], n[i], eye);
