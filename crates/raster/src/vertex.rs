@@ -96,10 +96,10 @@ pub(crate) fn vertex_stage<M: Mode>(
         (4096, M::ATTRS),
         |first, pos, attrs| {
             let src = &clip[first..first + pos.len()];
-            for (g, group) in src.chunks(4).enumerate() {
-                let a4 = mode.vertex4(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
-                for (j, (v, a)) in group.iter().zip(a4).enumerate() {
-                    let i = 4 * g + j;
+            for (g, group) in src.chunks(8).enumerate() {
+                let a8 = mode.vertex8(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
+                for (j, (v, a)) in group.iter().zip(a8).enumerate() {
+                    let i = 8 * g + j;
                     if let Some(sv) = view.screen(&ClipVertex { pos: v.0, attrs: a }, M::ATTRS) {
                         pos[i] = sv.pos();
                         let out = attrs.get_mut(i * M::ATTRS..(i + 1) * M::ATTRS);

@@ -36,6 +36,9 @@ where
     fn vertex4(&self, v: [&VertexIn; 4]) -> [Attrs; 4] {
         self.inner.vertex4(v)
     }
+    fn vertex8(&self, v: [&VertexIn; 8]) -> [Attrs; 8] {
+        self.inner.vertex8(v)
+    }
     fn triangle(&self, v: TriVertices<'_>, _perspective: bool) -> Option<IncrementalTri> {
         // The renderer hands the screen vertices (INPUT); without them nothing is drawn.
         let TriVertices::Screen(screen) = v else {

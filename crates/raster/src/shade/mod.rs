@@ -103,6 +103,12 @@ pub trait Mode: Sync {
     fn vertex4(&self, v: [&VertexIn; 4]) -> [Attrs; 4] {
         v.map(|v| self.vertex(v))
     }
+    /// [`Mode::vertex`] of eight vertices: by default two calls of [`Mode::vertex4`].
+    fn vertex8(&self, v: [&VertexIn; 8]) -> [Attrs; 8] {
+        let lo = self.vertex4([v[0], v[1], v[2], v[3]]);
+        let hi = self.vertex4([v[4], v[5], v[6], v[7]]);
+        std::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] })
+    }
     /// Set-up for one screen triangle from the vertices its [`Mode::INPUT`] names.
     fn triangle(&self, v: TriVertices<'_>, perspective: bool) -> Self::Tri;
     /// The triangle's data from its snapped screen positions alone, when they decide it
@@ -168,6 +174,40 @@ pub(crate) fn shade8_by_fours<M: Mode + ?Sized>(
         mode.shade4(&hi, count.saturating_sub(4)),
     );
     std::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] })
+}
+
+/// The model at eight surface points at once, compiled for AVX2, when the frame runs eight
+/// lanes (`lit.avx2`); `None` otherwise. Bit for bit `shade` in every lane.
+#[cfg(target_arch = "x86_64")]
+pub(crate) fn lit8<const FX: u32>(lit: &Lit, p: [Vec3; 8], n: [Vec3; 8]) -> Option<[Vec3; 8]> {
+    Some(lit.avx2?.run(Lit8::<FX> { lit, p, n }))
+}
+
+/// No eight-lane level off x86-64.
+#[cfg(not(target_arch = "x86_64"))]
+pub(crate) fn lit8<const FX: u32>(_: &Lit, _: [Vec3; 8], _: [Vec3; 8]) -> Option<[Vec3; 8]> {
+    None
+}
+
+/// [`lit8`] as one AVX2 task.
+#[cfg(target_arch = "x86_64")]
+struct Lit8<'a, const FX: u32> {
+    lit: &'a Lit<'a>,
+    p: [Vec3; 8],
+    n: [Vec3; 8],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<const FX: u32> phosphor_lighting::Avx2Task for Lit8<'_, FX> {
+    type Output = [Vec3; 8];
+    #[inline(always)]
+    fn run(self, s: phosphor_lighting::Avx2) -> [Vec3; 8] {
+        use phosphor_lighting::{Vec3s, shade_lanes};
+        let w = s.splat(0.0);
+        let (p, n) = (Vec3s::from_vecs(w, self.p), Vec3s::from_vecs(w, self.n));
+        let lit = self.lit;
+        shade_lanes::<FX, _>(lit.set, &lit.mat, p, n, lit.eye).to_vecs()
+    }
 }
 
 /// Bits always compiled into a kernel (cheap, or free when the light set lacks them).

@@ -1,6 +1,7 @@
-//! Every SIMD level this CPU runs gives the same picture, bit for bit: the by-pixel pass at four
-//! lanes (the baseline) and at eight (AVX2), across perspective and screen-linear attributes,
-//! multisampling, culling, thread counts and image widths that leave partly filled groups.
+//! Every SIMD level this CPU runs gives the same picture, bit for bit: `phong`'s by-pixel pass
+//! and `gouraud`'s vertices at four lanes (the baseline) and at eight (AVX2), across
+//! perspective and screen-linear attributes, multisampling, culling, thread counts and image
+//! widths that leave partly filled groups.
 
 use glam::Vec3;
 use phosphor_lighting::{Fresnel, Material, SpecularModel};
@@ -41,8 +42,11 @@ fn every_level_this_cpu_runs_draws_the_same_bits() {
             .with_fresnel(Fresnel::Schlick { f0: 0.04 })
             .unwrap(),
     ];
-    for material in &materials {
-        let draws = [item(&mesh, material, &lights, ShadingMode::Phong)];
+    for (material, mode) in materials
+        .iter()
+        .flat_map(|m| [(m, ShadingMode::Phong), (m, ShadingMode::Gouraud)])
+    {
+        let draws = [item(&mesh, material, &lights, mode)];
         for (size, perspective, aa, cull, threads) in [
             ((97, 61), true, Antialias::Off, false, 1),
             ((97, 61), false, Antialias::Off, true, 2),
@@ -70,7 +74,7 @@ fn every_level_this_cpu_runs_draws_the_same_bits() {
                 assert_eq!(stats.pixels_shaded, base_stats.pixels_shaded);
                 assert!(
                     bits(&fb) == bits(&base),
-                    "{level} differs from the baseline: {size:?} perspective {perspective} {aa:?}"
+                    "{level} differs from the baseline: {mode:?} {size:?} perspective {perspective} {aa:?}"
                 );
             }
         }
