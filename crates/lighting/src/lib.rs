@@ -16,8 +16,10 @@
 //! [`shade_split()`] keeps the ambient, diffuse and specular sums apart (fast Phong);
 //! [`shade_reference`] is the f64 ground truth; [`PowTable`] is the specular power by table;
 //! [`specular_upper_bound`] bounds the specular sum over a whole triangle (fast Phong's guard
-//! against a highlight between its samples). [`shade_x4()`] shades four points per call
-//! ([`Vec3x4`] lanes, SIMD), bit for bit what four [`shade()`] calls give.
+//! against a highlight between its samples). [`shade_lanes()`] shades several points per
+//! call, generic over a [`Lanes`] type: [`shade_x4()`] four ([`Vec3x4`], SSE2), and on x86-64
+//! CPUs with AVX2 eight (`F32x8` inside `Avx2::run`, detected at run time), bit for bit what
+//! that many [`shade()`] calls give.
 //!
 //! Numerics: no public function returns NaN or Inf for finite input. A zero or non-finite
 //! normal gives `emission + ka Ia` only; a light at the surface point (`d = 0`) shines along
