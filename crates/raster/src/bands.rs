@@ -291,14 +291,7 @@ fn by_pixel_pass<M: Mode>(
         perspective: input.perspective && M::ATTRS > 0,
         block: block as usize,
     };
-    (
-        if input.mode.eight() {
-            pass.shade::<8>(target.color, |a, count| input.mode.shade8(a, count))
-        } else {
-            pass.shade::<4>(target.color, |a, count| input.mode.shade4(a, count))
-        },
-        traced,
-    )
+    (input.mode.shade_pixels(&pass, target.color), traced)
 }
 
 /// The depth pass of band `b`: every triangle set up without attributes (the same edges and

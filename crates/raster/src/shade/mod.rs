@@ -16,7 +16,7 @@ use glam::{Vec2, Vec3, Vec4};
 use phosphor_lighting::{Effects, Material};
 
 use crate::clip::Attrs;
-use crate::scanline::BandTarget;
+use crate::scanline::{BandTarget, ByPixel};
 use crate::setup::{RasterTri, ScreenPos, ScreenVertex};
 
 pub mod fast_phong;
@@ -131,16 +131,11 @@ pub trait Mode: Sync {
         let _ = (attrs, count);
         [Vec3::ZERO; 4]
     }
-    /// With [`Passes::ByPixel`]: whether the by-pixel pass shades eight pixels per call
-    /// ([`Mode::shade8`]) rather than four. True only where eight lanes run as one vector
-    /// (AVX2 detected and chosen), so that the pictures are the same bits either way.
-    fn eight(&self) -> bool {
-        false
-    }
-    /// [`Mode::shade4`] of eight pixels (lanes past `count` repeat lane 0): by default two
-    /// calls of it.
-    fn shade8(&self, attrs: &[Attrs; 8], count: usize) -> [Vec3; 8] {
-        shade8_by_fours(self, attrs, count)
+    /// With [`Passes::ByPixel`]: shades the band's pixels from the id buffer
+    /// ([`ByPixel::shade`]), four per call of [`Mode::shade4`] by default. A mode that shades
+    /// more pixels per call overrides it, so that only that mode compiles the wider pass.
+    fn shade_pixels(&self, pass: &ByPixel, color: &mut [Vec3]) -> u64 {
+        pass.shade::<4>(color, |a, count| self.shade4(a, count))
     }
     /// With [`Passes::ByPixel`]: whether this triangle's pixels come from the by-pixel pass
     /// ([`Mode::shade4`] of its interpolated attributes). A triangle for which it is false is
@@ -159,21 +154,6 @@ pub trait Mode: Sync {
     fn is_fallback(_tri: &Self::Tri) -> bool {
         false
     }
-}
-
-/// [`Mode::shade8`] as two calls of [`Mode::shade4`].
-pub(crate) fn shade8_by_fours<M: Mode + ?Sized>(
-    mode: &M,
-    attrs: &[Attrs; 8],
-    count: usize,
-) -> [Vec3; 8] {
-    let lo: [Attrs; 4] = std::array::from_fn(|k| attrs[k]);
-    let hi: [Attrs; 4] = std::array::from_fn(|k| attrs[4 + k]);
-    let (lo, hi) = (
-        mode.shade4(&lo, count.min(4)),
-        mode.shade4(&hi, count.saturating_sub(4)),
-    );
-    std::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] })
 }
 
 /// The model at eight surface points at once, compiled for AVX2, when the frame runs eight

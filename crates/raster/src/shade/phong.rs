@@ -7,10 +7,10 @@ use glam::{Vec2, Vec3, Vec4};
 use phosphor_lighting::{Vec3s, shade_lanes};
 use phosphor_lighting::{Vec3x4, f32x4, shade, shade_x4};
 
-use super::{Lit, Mode, Passes, TriVertices, VertexIn, get3, shade8_by_fours, surface_attrs};
+use super::{Lit, Mode, Passes, TriVertices, VertexIn, get3, surface_attrs};
 use crate::bump::BumpMap;
 use crate::clip::Attrs;
-use crate::scanline::{BandTarget, Kernel, traverse};
+use crate::scanline::{BandTarget, ByPixel, Kernel, traverse};
 use crate::setup::RasterTri;
 
 /// The Phong mode for effect set `FX`, with or without bump mapping.
@@ -95,9 +95,18 @@ impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
     fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
         self.shade_lanes(&(), attrs, count)
     }
-    fn eight(&self) -> bool {
-        !BUMP && self.lit.avx2.is_some()
+    fn shade_pixels(&self, pass: &ByPixel, color: &mut [Vec3]) -> u64 {
+        if !BUMP && self.lit.avx2.is_some() {
+            pass.shade::<8>(color, |a, count| self.shade8(a, count))
+        } else {
+            pass.shade::<4>(color, |a, count| self.shade4(a, count))
+        }
     }
+}
+
+impl<const FX: u32, const BUMP: bool> Phong<'_, FX, BUMP> {
+    /// The colours of eight pixels (lanes past `count` repeat lane 0): one AVX2 task where
+    /// the frame runs eight lanes, else two calls of [`Mode::shade4`].
     #[inline]
     fn shade8(&self, attrs: &[Attrs; 8], count: usize) -> [Vec3; 8] {
         #[cfg(target_arch = "x86_64")]
@@ -107,7 +116,13 @@ impl<const FX: u32, const BUMP: bool> Mode for Phong<'_, FX, BUMP> {
                 attrs,
             });
         }
-        shade8_by_fours(self, attrs, count)
+        let lo: [Attrs; 4] = std::array::from_fn(|k| attrs[k]);
+        let hi: [Attrs; 4] = std::array::from_fn(|k| attrs[4 + k]);
+        let (lo, hi) = (
+            self.shade4(&lo, count.min(4)),
+            self.shade4(&hi, count.saturating_sub(4)),
+        );
+        std::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] })
     }
 }
 
