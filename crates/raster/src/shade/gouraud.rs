@@ -7,7 +7,7 @@
 use glam::Vec3;
 use phosphor_lighting::{Vec3x4, shade, shade_x4};
 
-use super::{Lit, Mode, TriVertices, VertexIn, get3, lit8, put3};
+use super::{Lit, Mode, TriVertices, VertexIn, get3, halves, join, lit8, put3};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::scanline::{BandTarget, Kernel, traverse};
 use crate::setup::RasterTri;
@@ -76,9 +76,8 @@ impl<const FX: u32> Mode for Gouraud<'_, FX> {
     fn vertex8(&self, v: [&VertexIn; 8]) -> [Attrs; 8] {
         // Eight lanes where the frame runs them, bit for bit `vertex` in every lane.
         let Some(i) = lit8::<FX>(&self.lit, v.map(|v| v.world), v.map(|v| v.normal)) else {
-            let lo = self.vertex4([v[0], v[1], v[2], v[3]]);
-            let hi = self.vertex4([v[4], v[5], v[6], v[7]]);
-            return std::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] });
+            let (lo, hi) = halves(&v);
+            return join(self.vertex4(lo), self.vertex4(hi));
         };
         i.map(|i| {
             let mut a = [0.0; MAX_ATTRS];

@@ -105,9 +105,8 @@ pub trait Mode: Sync {
     }
     /// [`Mode::vertex`] of eight vertices: by default two calls of [`Mode::vertex4`].
     fn vertex8(&self, v: [&VertexIn; 8]) -> [Attrs; 8] {
-        let lo = self.vertex4([v[0], v[1], v[2], v[3]]);
-        let hi = self.vertex4([v[4], v[5], v[6], v[7]]);
-        std::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] })
+        let (lo, hi) = halves(&v);
+        join(self.vertex4(lo), self.vertex4(hi))
     }
     /// Set-up for one screen triangle from the vertices its [`Mode::INPUT`] names.
     fn triangle(&self, v: TriVertices<'_>, perspective: bool) -> Self::Tri;
@@ -154,6 +153,19 @@ pub trait Mode: Sync {
     fn is_fallback(_tri: &Self::Tri) -> bool {
         false
     }
+}
+
+/// The two halves of eight items: how an eight-wide call falls back to four-wide ones.
+pub(crate) fn halves<T: Copy>(v: &[T; 8]) -> ([T; 4], [T; 4]) {
+    (
+        std::array::from_fn(|k| v[k]),
+        std::array::from_fn(|k| v[4 + k]),
+    )
+}
+
+/// Two halves joined back into eight items ([`halves`]'s inverse).
+pub(crate) fn join<T: Copy>(lo: [T; 4], hi: [T; 4]) -> [T; 8] {
+    std::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] })
 }
 
 /// The model at eight surface points at once, compiled for AVX2, when the frame runs eight

@@ -7,7 +7,7 @@ use glam::{Vec2, Vec3, Vec4};
 use phosphor_lighting::{Vec3s, shade_lanes};
 use phosphor_lighting::{Vec3x4, f32x4, shade, shade_x4};
 
-use super::{Lit, Mode, Passes, TriVertices, VertexIn, get3, surface_attrs};
+use super::{Lit, Mode, Passes, TriVertices, VertexIn, get3, halves, join, surface_attrs};
 use crate::bump::BumpMap;
 use crate::clip::Attrs;
 use crate::scanline::{BandTarget, ByPixel, Kernel, traverse};
@@ -116,13 +116,11 @@ impl<const FX: u32, const BUMP: bool> Phong<'_, FX, BUMP> {
                 attrs,
             });
         }
-        let lo: [Attrs; 4] = std::array::from_fn(|k| attrs[k]);
-        let hi: [Attrs; 4] = std::array::from_fn(|k| attrs[4 + k]);
-        let (lo, hi) = (
+        let (lo, hi) = halves(attrs);
+        join(
             self.shade4(&lo, count.min(4)),
             self.shade4(&hi, count.saturating_sub(4)),
-        );
-        std::array::from_fn(|k| if k < 4 { lo[k] } else { hi[k - 4] })
+        )
     }
 }
 
