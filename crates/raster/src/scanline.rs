@@ -455,13 +455,17 @@ impl Planes {
 
 /// `1/w` and attributes `0..n` at offset `(ox, oy)` from the planes' origin: each plane
 /// (`inv_w`, and `attr0`, `attr_dx`, `attr_dy` in `a`) evaluated once, as at a span start;
-/// stepping by `dA/dx` then continues along the row.
+/// stepping by `dA/dx` then continues along the row. `1/w` is evaluated in f64, as the depth
+/// pass's depth; the attributes in f32 from the origin (a vertex of the triangle, so the
+/// offsets are at most the triangle's size), which is whole f32 vectors and as exact as the
+/// f32 stepping that follows.
 #[inline(always)]
 fn planes_at(inv_w: &[f64; 3], a: [&Attrs; 3], (ox, oy): (f64, f64), n: usize) -> (f64, Attrs) {
     let inv_w = inv_w[0] + ox * inv_w[1] + oy * inv_w[2];
+    let (fx, fy) = (ox as f32, oy as f32);
     let mut attrs: Attrs = [0.0; MAX_ATTRS];
     for k in 0..n {
-        attrs[k] = (a[0][k] as f64 + ox * a[1][k] as f64 + oy * a[2][k] as f64) as f32;
+        attrs[k] = a[0][k] + fx * a[1][k] + fy * a[2][k];
     }
     (inv_w, attrs)
 }
@@ -499,9 +503,6 @@ pub struct ByPixel<'a> {
     pub block: usize,
 }
 
-/// The most samples in one multisampled pixel (a 4 x 4 grid).
-const MAX_BLOCK_SAMPLES: usize = 16;
-
 impl ByPixel<'_> {
     /// Shades the band's pixels into `color` with `shade` (the colours of the first `count` of
     /// `N` attribute sets), `N` pixels per call; returns the pixels shaded.
@@ -511,8 +512,8 @@ impl ByPixel<'_> {
         shade: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
     ) -> u64 {
         match self.block {
-            2 => return self.shade_blocks::<N, 2>(color, shade),
-            4 => return self.shade_blocks::<N, 4>(color, shade),
+            2 => return self.shade_blocks::<N, 2, 4>(color, shade),
+            4 => return self.shade_blocks::<N, 4, 16>(color, shade),
             _ => {}
         }
         // The lane count as a constant: the stepping and the divide compile to whole vectors.
@@ -528,21 +529,21 @@ impl ByPixel<'_> {
         }
     }
 
-    /// [`ByPixel::shade`] of a multisampled band, `K x K` samples per pixel.
-    fn shade_blocks<const N: usize, const K: usize>(
+    /// [`ByPixel::shade`] of a multisampled band, `K x K` samples per pixel (`S` = `K * K`).
+    fn shade_blocks<const N: usize, const K: usize, const S: usize>(
         &self,
         color: &mut [Vec3],
         shade: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
     ) -> u64 {
         match (self.perspective, lanes(self.n)) {
-            (true, 0) => self.run_blocks::<N, true, 0, K>(color, shade),
-            (true, 4) => self.run_blocks::<N, true, 4, K>(color, shade),
-            (true, 8) => self.run_blocks::<N, true, 8, K>(color, shade),
-            (true, _) => self.run_blocks::<N, true, MAX_ATTRS, K>(color, shade),
-            (false, 0) => self.run_blocks::<N, false, 0, K>(color, shade),
-            (false, 4) => self.run_blocks::<N, false, 4, K>(color, shade),
-            (false, 8) => self.run_blocks::<N, false, 8, K>(color, shade),
-            (false, _) => self.run_blocks::<N, false, MAX_ATTRS, K>(color, shade),
+            (true, 0) => self.run_blocks::<N, true, 0, K, S>(color, shade),
+            (true, 4) => self.run_blocks::<N, true, 4, K, S>(color, shade),
+            (true, 8) => self.run_blocks::<N, true, 8, K, S>(color, shade),
+            (true, _) => self.run_blocks::<N, true, MAX_ATTRS, K, S>(color, shade),
+            (false, 0) => self.run_blocks::<N, false, 0, K, S>(color, shade),
+            (false, 4) => self.run_blocks::<N, false, 4, K, S>(color, shade),
+            (false, 8) => self.run_blocks::<N, false, 8, K, S>(color, shade),
+            (false, _) => self.run_blocks::<N, false, MAX_ATTRS, K, S>(color, shade),
         }
     }
 
@@ -643,7 +644,13 @@ impl ByPixel<'_> {
     /// centroid of that triangle's samples. Each colour is written to every sample of its
     /// triangle in the block.
     #[inline(always)]
-    fn run_blocks<const N: usize, const PERSPECTIVE: bool, const L: usize, const K: usize>(
+    fn run_blocks<
+        const N: usize,
+        const PERSPECTIVE: bool,
+        const L: usize,
+        const K: usize,
+        const S: usize,
+    >(
         &self,
         color: &mut [Vec3],
         shade4: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
@@ -661,10 +668,10 @@ impl ByPixel<'_> {
             let (mut step_w, mut step) = (0.0f64, [0.0f32; MAX_ATTRS]);
             for bx in self.block_columns::<K>(by) {
                 let base = by * K * width + bx * K;
-                let Some(ids) = self.block_ids::<K>(base) else {
+                let Some(ids) = self.block_ids::<K, S>(base) else {
                     continue;
                 };
-                if ids[1..K * K].iter().all(|&id| id == ids[0]) {
+                if ids[1..].iter().all(|&id| id == ids[0]) {
                     if ids[0] == run && bx == next {
                         if PERSPECTIVE {
                             inv_w += step_w;
@@ -702,22 +709,22 @@ impl ByPixel<'_> {
                 }
                 // An edge: once per triangle shown, at the centroid of its samples.
                 run = u64::MAX;
-                for s in 0..K * K {
-                    let id = ids[s];
-                    if ids[..s].contains(&id) {
-                        continue;
+                let mut left = all;
+                while left != 0 {
+                    let first = left.trailing_zeros() as usize;
+                    let id = ids[first];
+                    let mut mask = 0u16;
+                    for (j, &other) in ids.iter().enumerate().skip(first) {
+                        if other == id {
+                            mask |= 1 << j;
+                        }
                     }
+                    left &= !mask;
                     let Some(p) = self.planes_of(id) else {
                         continue;
                     };
-                    let (mut sx, mut sy, mut count, mut mask) = (0.0, 0.0, 0.0, 0u16);
-                    for j in (s..K * K).filter(|&j| ids[j] == id) {
-                        sx += (bx * K + j % K) as f64 + 0.5;
-                        sy += (j / K) as f64 + 0.5;
-                        count += 1.0;
-                        mask |= 1 << j;
-                    }
-                    let o = (sx / count - p.origin.0, top + sy / count - p.origin.1);
+                    let (cx, cy) = centroid::<K>(mask);
+                    let o = ((bx * K) as f64 + cx - p.origin.0, top + cy - p.origin.1);
                     let (iw, a) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
                     let w = if PERSPECTIVE { (1.0 / iw) as f32 } else { 1.0 };
                     if pending.queue((base, mask), (&a, w, L)) {
@@ -734,8 +741,8 @@ impl ByPixel<'_> {
     /// The ids of the `K x K` samples of the block whose first sample is `base` (rows, then
     /// columns); `None` past the band's ids.
     #[inline(always)]
-    fn block_ids<const K: usize>(&self, base: usize) -> Option<[u64; MAX_BLOCK_SAMPLES]> {
-        let mut ids = [u64::MAX; MAX_BLOCK_SAMPLES];
+    fn block_ids<const K: usize, const S: usize>(&self, base: usize) -> Option<[u64; S]> {
+        let mut ids = [u64::MAX; S];
         for sy in 0..K {
             let row = base + sy * self.width as usize;
             ids[sy * K..(sy + 1) * K].copy_from_slice(self.ids.get(row..row + K)?);
@@ -752,6 +759,43 @@ const fn block_mask<const K: usize>() -> u16 {
     } else {
         (1 << (K * K)) - 1
     }
+}
+
+/// The centroid, in samples from the block's corner, of the samples in `mask` (bit
+/// `sy * K + sx`; not empty) of a `K x K` block, each sample counted at its centre: looked up
+/// for 2 x 2 blocks, whose 16 masks make a small table.
+#[inline(always)]
+fn centroid<const K: usize>(mask: u16) -> (f64, f64) {
+    if K == 2 {
+        CENTROIDS_2X2[usize::from(mask) & 15]
+    } else {
+        centroid_of(mask, K)
+    }
+}
+
+/// [`centroid`] of every mask of a 2 x 2 block.
+const CENTROIDS_2X2: [(f64, f64); 16] = {
+    let mut table = [(0.0, 0.0); 16];
+    let mut mask = 1;
+    while mask < 16 {
+        table[mask] = centroid_of(mask as u16, 2);
+        mask += 1;
+    }
+    table
+};
+
+/// [`centroid`] of `mask` in a `k x k` block, summed in integers (twice the offsets).
+const fn centroid_of(mask: u16, k: usize) -> (f64, f64) {
+    let (mut sx, mut sy, mut j) = (0u32, 0u32, 0);
+    while j < k * k {
+        if mask & (1 << j) != 0 {
+            sx += 2 * (j % k) as u32 + 1;
+            sy += 2 * (j / k) as u32 + 1;
+        }
+        j += 1;
+    }
+    let twice_count = 2.0 * mask.count_ones() as f64;
+    (sx as f64 / twice_count, sy as f64 / twice_count)
 }
 
 /// Where a multisampled shading's colour goes: the first sample of its block and a mask of the
