@@ -94,11 +94,17 @@ impl<T: Copy + Default, const N: usize> Pending<T, N> {
     /// vector multiplies where a loop to the kernel's count did one lane at a time.
     #[inline(always)]
     fn queue(&mut self, at: T, (attrs, w, l): (&Attrs, f32, usize)) -> bool {
-        let slot = &mut self.attrs[self.len];
+        // `len < N` always; masked (N is a power of two) so that no bounds check is compiled.
+        let at_slot = if N.is_power_of_two() {
+            self.len & (N - 1)
+        } else {
+            self.len
+        };
+        let slot = &mut self.attrs[at_slot];
         for k in 0..l {
             slot[k] = attrs[k] * w;
         }
-        self.idx[self.len] = at;
+        self.idx[at_slot] = at;
         self.len += 1;
         self.len == N
     }
