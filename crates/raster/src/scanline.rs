@@ -1126,3 +1126,31 @@ fn incremental_impl<K: Kernel, const VISIBLE: bool>(
     }
     shaded
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centroids_are_the_mean_of_the_sample_centres() {
+        // 2 x 2 (bits: 0 top left, 1 top right, 2 bottom left, 3 bottom right).
+        assert_eq!(centroid::<2>(0b0001), (0.5, 0.5));
+        assert_eq!(centroid::<2>(0b1000), (1.5, 1.5));
+        assert_eq!(centroid::<2>(0b0011), (1.0, 0.5));
+        assert_eq!(centroid::<2>(0b0101), (0.5, 1.0));
+        assert_eq!(centroid::<2>(0b1111), (1.0, 1.0));
+        assert_eq!(centroid::<2>(0b0111), (2.5 / 3.0, 2.5 / 3.0));
+        // 4 x 4: the whole block, one corner, the bottom row.
+        assert_eq!(centroid::<4>(u16::MAX), (2.0, 2.0));
+        assert_eq!(centroid::<4>(1 << 15), (3.5, 3.5));
+        assert_eq!(centroid::<4>(0xF000), (2.0, 3.5));
+        // The table agrees with a sum of f64 sample centres for every 2 x 2 mask.
+        for mask in 1u16..16 {
+            let bits: Vec<usize> = (0..4).filter(|j| mask & (1 << j) != 0).collect();
+            let n = bits.len() as f64;
+            let sx = bits.iter().map(|j| (j % 2) as f64 + 0.5).sum::<f64>() / n;
+            let sy = bits.iter().map(|j| (j / 2) as f64 + 0.5).sum::<f64>() / n;
+            assert_eq!(centroid::<2>(mask), (sx, sy), "mask {mask:04b}");
+        }
+    }
+}
