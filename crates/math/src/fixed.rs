@@ -26,7 +26,23 @@ pub fn to_fixed(x: f32) -> Option<i64> {
     if !x.is_finite() || x.abs() > MAX_FIXED_COORD {
         return None;
     }
-    Some((f64::from(x) * SUBPIXEL_ONE as f64).round() as i64)
+    Some(round_half_away(f64::from(x) * SUBPIXEL_ONE as f64))
+}
+
+/// `v.round() as i64` for `|v| < 2^52`, from a truncating conversion and the exact remainder
+/// `v - trunc(v)`: `f64::round` is a library call on x86-64's baseline (it has no rounding
+/// instruction before SSE4.1), and every projected vertex rounds two coordinates.
+#[inline]
+fn round_half_away(v: f64) -> i64 {
+    let t = v as i64;
+    let rest = v - t as f64;
+    if rest >= 0.5 {
+        t + 1
+    } else if rest <= -0.5 {
+        t - 1
+    } else {
+        t
+    }
 }
 
 /// Converts a fixed-point coordinate back to pixels.
@@ -48,6 +64,30 @@ mod tests {
         assert_eq!(to_fixed(-0.5), Some(-128));
         assert_eq!(to_fixed(1.0 / 512.0 + 1e-6), Some(1));
         assert_eq!(from_fixed(384), 1.5);
+    }
+
+    #[test]
+    fn rounding_matches_f64_round_at_ties_and_between() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            -2.5,
+            0.49999999999999994,
+        ];
+        for k in -2000..2000 {
+            let v = f64::from(k) / 8.0;
+            values.extend([v, v + 1e-9, v - 1e-9, v.next_up(), v.next_down()]);
+        }
+        let big = f64::from(MAX_FIXED_COORD) * SUBPIXEL_ONE as f64;
+        values.extend([big, -big, big - 0.5, 1e15 + 0.5, -(1e15 + 0.5)]);
+        for v in values {
+            assert_eq!(round_half_away(v), v.round() as i64, "{v}");
+        }
     }
 
     #[test]

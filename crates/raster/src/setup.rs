@@ -108,34 +108,57 @@ pub fn to_screen(
     n: usize,
     perspective: bool,
 ) -> Option<ScreenVertex> {
-    let w = v.pos.w as f64;
+    let (p, rhw) = project(v.pos, width, height, perspective)?;
+    let mut attrs = [0.0; MAX_ATTRS];
+    let scale = if perspective { rhw as f32 } else { 1.0 };
+    for j in 0..n {
+        attrs[j] = v.attrs[j] * scale;
+    }
+    Some(ScreenVertex {
+        fx: i64::from(p.fx),
+        fy: i64::from(p.fy),
+        x: f64::from(p.fx) * INV_ONE,
+        y: f64::from(p.fy) * INV_ONE,
+        depth: p.depth,
+        inv_w: p.inv_w,
+        rhw,
+        attrs,
+    })
+}
+
+/// The position part of [`to_screen`] (the same bits): the snapped position, depth and
+/// stepped `1/w`, with the true `1/w` (attributes are multiplied by it, as `f32`, when
+/// `perspective`). The vertex stage calls this alone and scales only the attributes its mode
+/// reads, rather than building a whole [`ScreenVertex`] per mesh vertex.
+#[inline]
+#[must_use]
+pub fn project(
+    pos: glam::Vec4,
+    width: u32,
+    height: u32,
+    perspective: bool,
+) -> Option<(ScreenPos, f64)> {
+    let w = pos.w as f64;
     if w.is_nan() || w <= 0.0 || !w.is_finite() {
         return None;
     }
     let inv_w = 1.0 / w;
-    let sx = (v.pos.x as f64 * inv_w + 1.0) * 0.5 * width as f64;
-    let sy = (1.0 - v.pos.y as f64 * inv_w) * 0.5 * height as f64;
-    let depth = (v.pos.z as f64 * inv_w) * 0.5 + 0.5;
+    let sx = (pos.x as f64 * inv_w + 1.0) * 0.5 * width as f64;
+    let sy = (1.0 - pos.y as f64 * inv_w) * 0.5 * height as f64;
+    let depth = (pos.z as f64 * inv_w) * 0.5 + 0.5;
     let fx = to_fixed(sx as f32)?;
     let fy = to_fixed(sy as f32)?;
     if !depth.is_finite() {
         return None;
     }
-    let mut attrs = [0.0; MAX_ATTRS];
-    let scale = if perspective { inv_w as f32 } else { 1.0 };
-    for j in 0..n {
-        attrs[j] = v.attrs[j] * scale;
-    }
-    Some(ScreenVertex {
-        fx,
-        fy,
-        x: fx as f64 * INV_ONE,
-        y: fy as f64 * INV_ONE,
+    // |fx|, |fy| <= MAX_FIXED_COORD << SUBPIXEL_BITS = 2^28 (see `to_fixed`).
+    let p = ScreenPos {
+        fx: fx as i32,
+        fy: fy as i32,
         depth,
         inv_w: if perspective { inv_w } else { 1.0 },
-        rhw: inv_w,
-        attrs,
-    })
+    };
+    Some((p, inv_w))
 }
 
 /// Twice the signed area in fixed point, screen frame (y down): negative for a triangle that is

@@ -9,7 +9,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use crate::DrawItem;
 use crate::clip::{ClipVertex, guard_band, inside_clip_volume};
 use crate::parallel::{for_each_chunk_pair, map_indices};
-use crate::setup::{ScreenPos, ScreenVertex, to_screen};
+use crate::setup::{ScreenPos, ScreenVertex, project, to_screen};
 use crate::shade::{Mode, TriInput, VertexIn};
 
 /// The image a draw is projected onto.
@@ -50,6 +50,17 @@ impl Viewport {
     #[inline]
     pub fn project(&self, cv: &ClipVertex, n: usize) -> Option<ScreenVertex> {
         to_screen(cv, self.width, self.height, n, self.perspective)
+    }
+
+    /// [`Viewport::screen`]'s position and the scale of its attributes (`1/w` when
+    /// perspective-correct, else 1), with the same bits.
+    #[inline]
+    fn screen_pos(&self, pos: Vec4) -> Option<(ScreenPos, f32)> {
+        if !(pos.is_finite() && inside_clip_volume(pos, self.guard)) {
+            return None;
+        }
+        let (p, rhw) = project(pos, self.width, self.height, self.perspective)?;
+        Some((p, if self.perspective { rhw as f32 } else { 1.0 }))
     }
 }
 
@@ -100,11 +111,13 @@ pub(crate) fn vertex_stage<M: Mode>(
                 let a8 = mode.vertex8(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
                 for (j, (v, a)) in group.iter().zip(a8).enumerate() {
                     let i = 8 * g + j;
-                    if let Some(sv) = view.screen(&ClipVertex { pos: v.0, attrs: a }, M::ATTRS) {
-                        pos[i] = sv.pos();
+                    if let Some((p, scale)) = view.screen_pos(v.0) {
+                        pos[i] = p;
+                        // As `to_screen` scales them.
                         let out = attrs.get_mut(i * M::ATTRS..(i + 1) * M::ATTRS);
-                        out.unwrap_or(&mut [])
-                            .copy_from_slice(&sv.attrs[..M::ATTRS]);
+                        for (o, a) in out.unwrap_or(&mut []).iter_mut().zip(a) {
+                            *o = a * scale;
+                        }
                     }
                 }
             }
