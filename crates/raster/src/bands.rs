@@ -1,8 +1,9 @@
-//! Stage 3, BANDS: the image is split into horizontal bands of [`BAND_ROWS`] scan lines, drawn
-//! in parallel. Each band clears its rows, then sets up and draws the triangles the bin stage
-//! recorded for it, chunk after chunk in submission order, so the picture is bit-identical for
-//! any thread count (bands depend on the image, not on the threads). Bands are sized by work:
-//! a 1080-row image has 68 of them, many more than cores.
+//! Stage 3, BANDS: the image is split into horizontal bands of [`crate::bin::BAND_ROWS`]
+//! pixel rows (of samples, when multisampled), drawn in parallel. Each band clears its rows,
+//! then sets up and draws the triangles the bin stage recorded for it, chunk after chunk in
+//! submission order, so the picture is bit-identical for any thread count (bands depend on the
+//! image, not on the threads). Bands are sized by work: a 1080-row image has 68 of them, many
+//! more than cores.
 //!
 //! How a band is drawn is the mode's [`Passes`], chosen once per draw: one pass
 //! ([`draw_single`]), or a depth pass ([`depth_pass`]) that leaves the nearest triangle's id per
@@ -15,7 +16,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::bin::{BAND_ROWS, Binned, EXTRA_VERTEX, TriRec};
+use crate::bin::{Binned, EXTRA_VERTEX, TriRec};
 use crate::framebuffer::{Framebuffer, clear_rows, mark_dirty, same_color};
 use crate::parallel::{effective_threads, pool};
 use crate::scanline::{BandTarget, ByPixel, Pass, Planes, depth_only};
@@ -150,9 +151,10 @@ pub(crate) fn draw_bands<M: Mode>(
     threads: usize,
     count: bool,
     block: u32,
+    band_rows: u32,
 ) -> u64 {
     let width = fb.width();
-    let chunk = (BAND_ROWS * width) as usize;
+    let chunk = (band_rows * width) as usize;
     let clear = fb.pending_clear.take();
     // Outside its dirty columns a row already holds the last clear's colour and depth.
     let only_dirty = clear.is_some_and(|bg| same_color(fb.clean, bg));
@@ -167,7 +169,7 @@ pub(crate) fn draw_bands<M: Mode>(
             // just before drawing them (they stay in cache).
             clear_rows((color, depth, dirty), width, bg, only_dirty);
         }
-        let y0 = b as i64 * BAND_ROWS as i64;
+        let y0 = b as i64 * band_rows as i64;
         let in_band: usize = input.records(b).map(|(_, r)| r.len()).sum();
         let mut target = BandTarget::new(color, depth, width, y0, count);
         if M::PASSES == Passes::Single || count || in_band < 2 {
@@ -182,12 +184,12 @@ pub(crate) fn draw_bands<M: Mode>(
     match (threads > 1).then(|| pool(threads)).flatten() {
         Some(p) => p.install(|| {
             let jobs = color.par_chunks_mut(chunk).zip(depth.par_chunks_mut(chunk));
-            let jobs = jobs.zip(dirty.par_chunks_mut(BAND_ROWS as usize));
+            let jobs = jobs.zip(dirty.par_chunks_mut(band_rows as usize));
             jobs.enumerate().map(run).sum()
         }),
         None => {
             let jobs = color.chunks_mut(chunk).zip(depth.chunks_mut(chunk));
-            let jobs = jobs.zip(dirty.chunks_mut(BAND_ROWS as usize));
+            let jobs = jobs.zip(dirty.chunks_mut(band_rows as usize));
             jobs.enumerate().map(run).sum()
         }
     }

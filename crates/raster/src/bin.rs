@@ -12,10 +12,16 @@ use crate::setup::{ScreenPos, ScreenVertex, row_range, screen_area2};
 use crate::shade::{Mode, TriInput, TriVertices, VertexIn};
 use crate::vertex::{DrawVertices, Viewport};
 
-/// Scan lines per band. A multiple of every multisampling block side (2 and 4), so that a
-/// band holds whole rows of pixels' samples.
+/// Pixel rows per band. A multisampled image's bands hold this many rows of pixels, `block`
+/// sample rows each ([`band_rows`]): bands of the same pixel rows keep the same split of the
+/// work over threads, and a triangle is set up in no more bands than without multisampling.
 pub const BAND_ROWS: u32 = 16;
-const _: () = assert!(BAND_ROWS.is_multiple_of(4));
+
+/// Scan lines per band of an image with `block x block` samples per pixel (1: none).
+#[must_use]
+pub const fn band_rows(block: u32) -> u32 {
+    BAND_ROWS * block
+}
 
 /// Marks a [`TriRec`] vertex that lives in its chunk's [`Binned::extra`] (made by clipping).
 pub const EXTRA_VERTEX: u32 = 1 << 31;
@@ -86,18 +92,13 @@ impl<T> Binned<T> {
     }
 }
 
-/// The bands `[first, last]` that rows `[lo, hi)` touch in an image `height` rows tall, or
-/// `None` when no row is inside it.
+/// The bands `[first, last]` of `rows` scan lines each that rows `[lo, hi)` touch in an
+/// image `height` rows tall, or `None` when no row is inside it.
 #[must_use]
-pub fn band_range(lo: i64, hi: i64, height: u32) -> Option<(u32, u32)> {
+pub fn band_range(lo: i64, hi: i64, height: u32, rows: u32) -> Option<(u32, u32)> {
     let lo = lo.max(0);
     let hi = hi.min(height as i64);
-    (lo < hi).then(|| {
-        (
-            (lo / BAND_ROWS as i64) as u32,
-            ((hi - 1) / BAND_ROWS as i64) as u32,
-        )
-    })
+    (lo < hi).then(|| ((lo / rows as i64) as u32, ((hi - 1) / rows as i64) as u32))
 }
 
 /// Triangles per parallel chunk of the bin stage.
@@ -161,7 +162,7 @@ fn accept(v: [ScreenPos; 3], cull_backfaces: bool) -> Option<(i64, i64)> {
 fn on_screen(v: [ScreenPos; 3], rows: (i64, i64), view: &Viewport) -> Option<(u32, u32)> {
     let (x0, x1) = row_range(v.map(|v| i64::from(v.fx)));
     let cols = x0.max(0) < x1.min(view.width as i64);
-    band_range(rows.0, rows.1, view.height).filter(|_| cols)
+    band_range(rows.0, rows.1, view.height, view.band_rows).filter(|_| cols)
 }
 
 /// Bins one chunk of triangles; returns them with the count accepted.
@@ -173,7 +174,7 @@ fn bin_chunk<M: Mode>(
     cull: bool,
 ) -> (Binned<M::Tri>, u64) {
     let persp = view.perspective;
-    let bands = view.height.div_ceil(BAND_ROWS) as usize;
+    let bands = view.height.div_ceil(view.band_rows) as usize;
     let mut staged: Vec<(TriRec, u32, u32)> = Vec::with_capacity(indices.len());
     let mut tris = Vec::with_capacity(indices.len());
     let mut extra = Vec::new();

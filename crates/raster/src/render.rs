@@ -227,17 +227,17 @@ fn run<M: Mode>(
     stats: &mut RenderStats,
     out: Output,
 ) {
-    let view = Viewport::new(fb.width(), fb.height(), opts.perspective_correct);
+    let (count, block) = match out {
+        Output::Shade { block } => (false, block),
+        Output::Count => (true, 1),
+    };
+    let view = Viewport::new(fb.width(), fb.height(), opts.perspective_correct, block);
     let cull = opts.cull_backfaces || d.cull_backfaces;
     let verts = vertex_stage(d, vp, mode, &view, opts.threads);
     let binned = bin_draw(d, mode, &verts, &view, cull, opts.threads);
     stats.triangles_in += d.mesh.indices.len() as u64;
     stats.triangles_drawn += binned.drawn;
     stats.fallbacks += binned.fallbacks;
-    let (count, block) = match out {
-        Output::Shade { block } => (false, block),
-        Output::Count => (true, 1),
-    };
     let input = BandInput {
         mode,
         pos: &verts.pos,
@@ -245,5 +245,5 @@ fn run<M: Mode>(
         chunks: &binned.chunks,
         perspective: view.perspective,
     };
-    stats.pixels_shaded += draw_bands(fb, &input, opts.threads, count, block);
+    stats.pixels_shaded += draw_bands(fb, &input, opts.threads, count, block, view.band_rows);
 }

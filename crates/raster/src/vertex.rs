@@ -23,16 +23,19 @@ pub(crate) struct Viewport {
     pub guard: (f32, f32),
     /// Whether attributes are divided by `w` (perspective-correct interpolation).
     pub perspective: bool,
+    /// Scan lines per band ([`crate::bin::band_rows`]).
+    pub band_rows: u32,
 }
 
 impl Viewport {
-    /// A `width` x `height` image.
-    pub fn new(width: u32, height: u32, perspective: bool) -> Viewport {
+    /// A `width` x `height` image with `block x block` samples per pixel (1: one).
+    pub fn new(width: u32, height: u32, perspective: bool, block: u32) -> Viewport {
         Viewport {
             width,
             height,
             guard: guard_band(width, height),
             perspective,
+            band_rows: crate::bin::band_rows(block),
         }
     }
 
