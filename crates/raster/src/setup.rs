@@ -139,7 +139,8 @@ pub fn project(
     perspective: bool,
 ) -> Option<(ScreenPos, f64)> {
     let w = pos.w as f64;
-    if w.is_nan() || w <= 0.0 || !w.is_finite() {
+    // NaN, zero, negative and infinite `w` all fail this one test.
+    if !(w > 0.0 && w < f64::INFINITY) {
         return None;
     }
     let inv_w = 1.0 / w;

@@ -7,7 +7,7 @@
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 use crate::DrawItem;
-use crate::clip::{ClipVertex, guard_band, inside_clip_volume};
+use crate::clip::{Attrs, ClipVertex, guard_band, inside_clip_volume};
 use crate::parallel::{for_each_chunk_pair, map_indices};
 use crate::setup::{ScreenPos, ScreenVertex, project, to_screen};
 use crate::shade::{Mode, TriInput, VertexIn};
@@ -110,18 +110,27 @@ pub(crate) fn vertex_stage<M: Mode>(
         (4096, M::ATTRS),
         |first, pos, attrs| {
             let src = &clip[first..first + pos.len()];
+            // Position and the mode's attributes of vertex `i` (of this chunk), scaled as
+            // `to_screen` scales them.
+            let mut put = |i: usize, v: &Vec4, a: &Attrs| {
+                if let Some((p, scale)) = view.screen_pos(*v) {
+                    pos[i] = p;
+                    let out = attrs.get_mut(i * M::ATTRS..(i + 1) * M::ATTRS);
+                    for (o, a) in out.unwrap_or(&mut []).iter_mut().zip(a) {
+                        *o = a * scale;
+                    }
+                }
+            };
+            if !M::VERTEX_BATCH {
+                for (i, v) in src.iter().enumerate() {
+                    put(i, &v.0, &mode.vertex(&v.1));
+                }
+                return;
+            }
             for (g, group) in src.chunks(8).enumerate() {
                 let a8 = mode.vertex8(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
-                for (j, (v, a)) in group.iter().zip(a8).enumerate() {
-                    let i = 8 * g + j;
-                    if let Some((p, scale)) = view.screen_pos(v.0) {
-                        pos[i] = p;
-                        // As `to_screen` scales them.
-                        let out = attrs.get_mut(i * M::ATTRS..(i + 1) * M::ATTRS);
-                        for (o, a) in out.unwrap_or(&mut []).iter_mut().zip(a) {
-                            *o = a * scale;
-                        }
-                    }
+                for (j, (v, a)) in group.iter().zip(&a8).enumerate() {
+                    put(8 * g + j, &v.0, a);
                 }
             }
         },

@@ -51,6 +51,7 @@ impl<const FX: u32> Kernel for Gouraud<'_, FX> {
 impl<const FX: u32> Mode for Gouraud<'_, FX> {
     const ATTRS: usize = 3;
     type Tri = ();
+    const VERTEX_BATCH: bool = true;
     fn vertex(&self, v: &VertexIn) -> Attrs {
         let mut a = [0.0; MAX_ATTRS];
         let i = shade::<FX>(self.lit.set, &self.lit.mat, v.world, v.normal, self.lit.eye);

@@ -30,6 +30,7 @@ where
         Passes::DepthFirst | Passes::ByPixel => Passes::DepthFirst,
     };
     const INPUT: TriInput = TriInput::Screen;
+    const VERTEX_BATCH: bool = M::VERTEX_BATCH;
     fn vertex(&self, v: &VertexIn) -> Attrs {
         self.inner.vertex(v)
     }

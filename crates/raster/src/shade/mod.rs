@@ -97,6 +97,10 @@ pub trait Mode: Sync {
     const PASSES: Passes = Passes::Single;
     /// What [`Mode::triangle`] reads.
     const INPUT: TriInput = TriInput::Positions;
+    /// Whether the vertex stage hands vertices over eight at a time ([`Mode::vertex8`]), for
+    /// modes whose per-vertex work runs in lanes (Gouraud's lighting); otherwise one at a
+    /// time ([`Mode::vertex`]), which copies no array of eight attribute sets.
+    const VERTEX_BATCH: bool = false;
     /// The attributes of one vertex.
     fn vertex(&self, v: &VertexIn) -> Attrs;
     /// [`Mode::vertex`] of four vertices (modes that shade per vertex do it four at a time).
