@@ -16,7 +16,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::bin::{Binned, EXTRA_VERTEX, TriRec};
+use crate::bin::{Binned, EXTRA_VERTEX, TriRec, band_rows};
 use crate::framebuffer::{Framebuffer, clear_rows, mark_dirty, same_color};
 use crate::parallel::{effective_threads, pool};
 use crate::scanline::{BandTarget, ByPixel, Pass, Planes, depth_only};
@@ -151,8 +151,8 @@ pub(crate) fn draw_bands<M: Mode>(
     threads: usize,
     count: bool,
     block: u32,
-    band_rows: u32,
 ) -> u64 {
+    let band_rows = band_rows(block);
     let width = fb.width();
     let chunk = (band_rows * width) as usize;
     let clear = fb.pending_clear.take();

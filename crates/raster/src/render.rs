@@ -245,5 +245,5 @@ fn run<M: Mode>(
         chunks: &binned.chunks,
         perspective: view.perspective,
     };
-    stats.pixels_shaded += draw_bands(fb, &input, opts.threads, count, block, view.band_rows);
+    stats.pixels_shaded += draw_bands(fb, &input, opts.threads, count, block);
 }

@@ -110,7 +110,7 @@ pub fn to_screen(
 ) -> Option<ScreenVertex> {
     let (p, rhw) = project(v.pos, width, height, perspective)?;
     let mut attrs = [0.0; MAX_ATTRS];
-    let scale = if perspective { rhw as f32 } else { 1.0 };
+    let scale = attr_scale(rhw, perspective);
     for j in 0..n {
         attrs[j] = v.attrs[j] * scale;
     }
@@ -124,6 +124,14 @@ pub fn to_screen(
         rhw,
         attrs,
     })
+}
+
+/// What [`to_screen`] multiplies a vertex's attributes by: its `1/w` (from [`project`]) when
+/// perspective-correct, else 1.
+#[inline]
+#[must_use]
+pub fn attr_scale(rhw: f64, perspective: bool) -> f32 {
+    if perspective { rhw as f32 } else { 1.0 }
 }
 
 /// The position part of [`to_screen`] (the same bits): the snapped position, depth and

@@ -9,7 +9,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use crate::DrawItem;
 use crate::clip::{Attrs, ClipVertex, guard_band, inside_clip_volume};
 use crate::parallel::{for_each_chunk_pair, map_indices};
-use crate::setup::{ScreenPos, ScreenVertex, project, to_screen};
+use crate::setup::{ScreenPos, ScreenVertex, attr_scale, project, to_screen};
 use crate::shade::{Mode, TriInput, VertexIn};
 
 /// The image a draw is projected onto.
@@ -43,9 +43,13 @@ impl Viewport {
     /// (a triangle of three such vertices is not changed by clipping).
     #[inline]
     pub fn screen(&self, cv: &ClipVertex, n: usize) -> Option<ScreenVertex> {
-        (cv.pos.is_finite() && inside_clip_volume(cv.pos, self.guard))
-            .then(|| self.project(cv, n))
-            .flatten()
+        self.inside(cv.pos).then(|| self.project(cv, n)).flatten()
+    }
+
+    /// Whether `pos` is finite and inside every clip plane (see [`Viewport::screen`]).
+    #[inline]
+    fn inside(&self, pos: Vec4) -> bool {
+        pos.is_finite() && inside_clip_volume(pos, self.guard)
     }
 
     /// Divide and viewport of `cv` with `n` attributes, with no clip-volume test (for the
@@ -59,11 +63,11 @@ impl Viewport {
     /// perspective-correct, else 1), with the same bits.
     #[inline]
     fn screen_pos(&self, pos: Vec4) -> Option<(ScreenPos, f32)> {
-        if !(pos.is_finite() && inside_clip_volume(pos, self.guard)) {
+        if !self.inside(pos) {
             return None;
         }
         let (p, rhw) = project(pos, self.width, self.height, self.perspective)?;
-        Some((p, if self.perspective { rhw as f32 } else { 1.0 }))
+        Some((p, attr_scale(rhw, self.perspective)))
     }
 }
 
