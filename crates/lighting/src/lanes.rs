@@ -1,4 +1,5 @@
-//! Lane types the illumination model is generic over: [`f32x4`] (SSE2, the x86-64 baseline,
+//! Lane types the illumination model is generic over: [`F32x1`] (one value, the scalar
+//! model), [`f32x4`] (SSE2, the x86-64 baseline,
 //! and whatever `wide` maps it to elsewhere) and, on x86-64 CPUs that have it, [`F32x8`]
 //! (AVX2, eight lanes), chosen at run time through [`Avx2`].
 //!
@@ -57,6 +58,10 @@ pub trait Lanes:
     fn blend(self, t: Self, f: Self) -> Self;
     /// With `self` a mask: bit `i` set when lane `i` is.
     fn mask_bits(self) -> u32;
+    /// The eight columns of the first `N` rows of `rows` (lane `i` of column `j` is
+    /// `rows[i][j]`), of the kind of `self`: a transpose, so that values stored one item after
+    /// another (a pixel's attributes) become lanes.
+    fn columns(self, rows: &[[f32; 8]; 8]) -> [Self; 8];
     /// With `self` a mask: every lane set.
     #[inline(always)]
     fn all(self) -> bool {
@@ -135,6 +140,134 @@ impl Lanes for f32x4 {
     #[inline(always)]
     fn mask_bits(self) -> u32 {
         self.move_mask().cast_unsigned()
+    }
+    #[inline(always)]
+    fn columns(self, rows: &[[f32; 8]; 8]) -> [f32x4; 8] {
+        // Two 4 x 4 transposes (eight shuffles each), where gathering the lanes one float at
+        // a time takes a move per float.
+        let quad = |at: usize| {
+            f32x4::transpose(std::array::from_fn(|i| {
+                f32x4::new([
+                    rows[i][at],
+                    rows[i][at + 1],
+                    rows[i][at + 2],
+                    rows[i][at + 3],
+                ])
+            }))
+        };
+        let (lo, hi) = (quad(0), quad(4));
+        [lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]]
+    }
+}
+
+/// One f32 lane: the scalar model as a [`Lanes`] type, so that code written once over lanes
+/// also runs one value at a time (a pixel, a triangle) with the same bits as every wider
+/// lane type. Masks are all ones or all zeros in the one lane.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct F32x1(pub f32);
+
+impl F32x1 {
+    #[inline(always)]
+    fn bits(self) -> u32 {
+        self.0.to_bits()
+    }
+
+    #[inline(always)]
+    fn from_bits(b: u32) -> F32x1 {
+        F32x1(f32::from_bits(b))
+    }
+
+    #[inline(always)]
+    fn mask(c: bool) -> F32x1 {
+        F32x1::from_bits(if c { u32::MAX } else { 0 })
+    }
+}
+
+macro_rules! scalar_op {
+    ($trait:ident, $method:ident, $op:tt) => {
+        impl $trait for F32x1 {
+            type Output = F32x1;
+            #[inline(always)]
+            fn $method(self, rhs: F32x1) -> F32x1 {
+                F32x1(self.0 $op rhs.0)
+            }
+        }
+    };
+}
+scalar_op!(Add, add, +);
+scalar_op!(Sub, sub, -);
+scalar_op!(Mul, mul, *);
+scalar_op!(Div, div, /);
+
+macro_rules! scalar_bits {
+    ($trait:ident, $method:ident, $op:tt) => {
+        impl $trait for F32x1 {
+            type Output = F32x1;
+            #[inline(always)]
+            fn $method(self, rhs: F32x1) -> F32x1 {
+                F32x1::from_bits(self.bits() $op rhs.bits())
+            }
+        }
+    };
+}
+scalar_bits!(BitAnd, bitand, &);
+scalar_bits!(BitOr, bitor, |);
+scalar_bits!(BitXor, bitxor, ^);
+
+impl Lanes for F32x1 {
+    const N: usize = 1;
+    #[inline(always)]
+    fn splat(self, x: f32) -> F32x1 {
+        F32x1(x)
+    }
+    #[inline(always)]
+    fn with_lanes(self, a: [f32; 8]) -> F32x1 {
+        F32x1(a[0])
+    }
+    #[inline(always)]
+    fn to_lanes(self) -> [f32; 8] {
+        [self.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    }
+    #[inline(always)]
+    fn sqrt(self) -> F32x1 {
+        F32x1(self.0.sqrt())
+    }
+    #[inline(always)]
+    fn abs(self) -> F32x1 {
+        F32x1::from_bits(self.bits() & 0x7fff_ffff)
+    }
+    #[inline(always)]
+    fn max_c(self, c: F32x1) -> F32x1 {
+        // SSE's `maxps(x, c)`: x where x > c, else c (NaN gives c).
+        if self.0 > c.0 { self } else { c }
+    }
+    #[inline(always)]
+    fn min_c(self, c: F32x1) -> F32x1 {
+        if self.0 < c.0 { self } else { c }
+    }
+    #[inline(always)]
+    fn cmp_ge(self, o: F32x1) -> F32x1 {
+        F32x1::mask(self.0 >= o.0)
+    }
+    #[inline(always)]
+    fn cmp_le(self, o: F32x1) -> F32x1 {
+        F32x1::mask(self.0 <= o.0)
+    }
+    #[inline(always)]
+    fn cmp_eq(self, o: F32x1) -> F32x1 {
+        F32x1::mask(self.0 == o.0)
+    }
+    #[inline(always)]
+    fn blend(self, t: F32x1, f: F32x1) -> F32x1 {
+        if self.bits() >> 31 != 0 { t } else { f }
+    }
+    #[inline(always)]
+    fn mask_bits(self) -> u32 {
+        self.bits() >> 31
+    }
+    #[inline(always)]
+    fn columns(self, rows: &[[f32; 8]; 8]) -> [F32x1; 8] {
+        rows[0].map(F32x1)
     }
 }
 
@@ -360,6 +493,10 @@ mod avx2 {
         #[inline(always)]
         fn mask_bits(self) -> u32 {
             self.t.avx._mm256_movemask_ps(self.v).cast_unsigned()
+        }
+        #[inline(always)]
+        fn columns(self, rows: &[[f32; 8]; 8]) -> [F32x8; 8] {
+            Avx2(self.t).transpose(*rows)
         }
     }
 }

@@ -157,7 +157,7 @@ pub use error::LightingError;
 pub use fresnel::{Fresnel, FresnelMode, GLASS_F0};
 #[cfg(target_arch = "x86_64")]
 pub use lanes::{Avx2, Avx2Task, F32x8};
-pub use lanes::{Lanes, f32x4};
+pub use lanes::{F32x1, Lanes, f32x4};
 pub use light::{Light, LightKind, MAX_SAMPLES_PER_EDGE};
 pub use lightset::{LightSet, PreparedDirectional, PreparedPoint, PreparedSpot, effects_for};
 pub use lobe::{MIRROR_COS_TOLERANCE, specular_lobe, specular_lobe_f64};
@@ -167,7 +167,7 @@ pub use reference::shade_reference;
 pub use shade::{ShadeTerms, finite_intensity, shade, shade_canonical, shade_dyn, shade_split};
 #[cfg(target_arch = "x86_64")]
 pub use shade_wide::Vec3x8;
-pub use shade_wide::{Vec3s, Vec3x4, shade_lanes, shade_x4};
+pub use shade_wide::{TermsLanes, Vec3s, Vec3x4, shade_lanes, shade_terms_lanes, shade_x4};
 
 #[cfg(test)]
 mod tests;

@@ -45,7 +45,7 @@ use crate::lanes::{Lanes, f32x4};
 use crate::lightset::{LightSet, PreparedPoint};
 use crate::lobe::MIRROR_COS_TOLERANCE;
 use crate::material::{Material, SpecularModel};
-use crate::shade::{ShadeTerms, UNIT_NORMAL_TOLERANCE, finite_intensity};
+use crate::shade::{UNIT_NORMAL_TOLERANCE, finite_intensity};
 
 /// `L::N` 3-vectors as three lane vectors: `x[i], y[i], z[i]` is vector `i`.
 #[derive(Debug, Clone, Copy, Default)]
@@ -104,6 +104,25 @@ impl<L: Lanes> Vec3s<L> {
     #[must_use]
     pub fn dot(self, rhs: Vec3s<L>) -> L {
         self.x * rhs.x + self.y * rhs.y + self.z * rhs.z
+    }
+
+    /// Per-lane cross product, in the order of glam's `Vec3::cross` (the same bits).
+    #[inline(always)]
+    #[must_use]
+    pub fn cross(self, rhs: Vec3s<L>) -> Vec3s<L> {
+        Vec3s::new(
+            self.y * rhs.z - rhs.y * self.z,
+            self.z * rhs.x - rhs.z * self.x,
+            self.x * rhs.y - rhs.x * self.y,
+        )
+    }
+
+    /// `phosphor_math::safe_normalize(self[i], fallback[i])` per lane, bit for bit: the unit
+    /// vector, or `fallback` for a zero, tiny or non-finite one.
+    #[inline(always)]
+    #[must_use]
+    pub fn safe_normalize(self, fallback: Vec3s<L>) -> Vec3s<L> {
+        safe_normalize_lanes(self, fallback).0
     }
 
     /// Per-lane squared length (`self.dot(self)`).
@@ -609,6 +628,50 @@ pub fn shade_lanes<const FX: u32, L: Lanes>(
     n: Vec3s<L>,
     eye: Vec3,
 ) -> Vec3s<L> {
+    shade_terms_lanes::<FX, L>(set, mat, p, n, eye).total()
+}
+
+/// The three sums of [`shade_lanes`] kept apart, each finite and non-negative per lane (the
+/// lane form of [`shade_split`](crate::shade_split)): for a renderer that scales the
+/// ambient and diffuse light by a per-pixel colour (a texture, a vertex colour) and adds the
+/// specular highlight untinted, as fixed-function OpenGL's "separate specular" does.
+#[derive(Debug, Clone, Copy)]
+pub struct TermsLanes<L> {
+    /// `emission + ka Ia`, the same in every lane.
+    pub ambient: Vec3s<L>,
+    /// `sum f(d) Il kd max(N.L, 0)`.
+    pub diffuse: Vec3s<L>,
+    /// `sum f(d) Il_spec ks W(theta) max(V.R, 0)^n_s`.
+    pub specular: Vec3s<L>,
+}
+
+impl<L: Lanes> TermsLanes<L> {
+    /// `ambient + diffuse + specular`, finite per lane: [`shade_lanes`] bit for bit.
+    #[inline(always)]
+    #[must_use]
+    pub fn total(self) -> Vec3s<L> {
+        finite_lanes(self.ambient + self.diffuse + self.specular)
+    }
+
+    /// `(ambient + diffuse) * m + specular`, finite per lane: the light scaled by the
+    /// surface colour `m` with the highlight added after.
+    #[inline(always)]
+    #[must_use]
+    pub fn modulated(self, m: Vec3s<L>) -> Vec3s<L> {
+        finite_lanes((self.ambient + self.diffuse) * m + self.specular)
+    }
+}
+
+/// [`shade_lanes`] split into its three sums ([`TermsLanes`]).
+#[inline(always)]
+#[must_use]
+pub fn shade_terms_lanes<const FX: u32, L: Lanes>(
+    set: &LightSet,
+    mat: &Material,
+    p: Vec3s<L>,
+    n: Vec3s<L>,
+    eye: Vec3,
+) -> TermsLanes<L> {
     let w = p.x;
     // The ambient terms do not depend on the lane: the scalar code's, splatted.
     let mut ambient = Vec3::ZERO;
@@ -619,19 +682,20 @@ pub fn shade_lanes<const FX: u32, L: Lanes>(
         ambient += mat.ka * set.ambient();
     }
     let ambient = finite_intensity(ambient);
-    let unlit = ShadeTerms {
-        ambient,
-        ..ShadeTerms::default()
-    }
-    .total();
+    let none = Vec3s::broadcast(w, Vec3::ZERO);
+    let unlit = TermsLanes {
+        ambient: Vec3s::broadcast(w, ambient),
+        diffuse: none,
+        specular: none,
+    };
     if !has(FX, Effects::DIFFUSE) && !has(FX, Effects::SPECULAR) {
-        return Vec3s::broadcast(w, unlit);
+        return unlit;
     }
     let n = unit_normal_lanes(n);
     let zero = w.splat(0.0);
     let dark = n.x.cmp_eq(zero) & n.y.cmp_eq(zero) & n.z.cmp_eq(zero);
     if dark.all() {
-        return Vec3s::broadcast(w, unlit);
+        return unlit;
     }
     let (v, _) = safe_normalize_lanes(Vec3s::broadcast(w, eye) - p, n);
     let mut acc = Sums {
@@ -671,8 +735,11 @@ pub fn shade_lanes<const FX: u32, L: Lanes>(
             acc.add_point::<FX>(light, p, Cone::None);
         }
     }
-    let ambient = Vec3s::broadcast(w, ambient);
-    finite_lanes(ambient + finite_lanes(acc.diffuse) + finite_lanes(acc.specular))
+    TermsLanes {
+        ambient: unlit.ambient,
+        diffuse: finite_lanes(acc.diffuse),
+        specular: finite_lanes(acc.specular),
+    }
 }
 
 #[cfg(test)]
