@@ -193,6 +193,7 @@ fn phosphor_frame(s: &Scene, fb: &mut Framebuffer, mode: &str, threads: usize) {
             normals: &s.mesh.normals,
             uvs: None,
             tangents: None,
+            colors: None,
             indices: &s.mesh.indices,
         },
         model: Mat4::IDENTITY,

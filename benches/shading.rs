@@ -71,6 +71,7 @@ impl Scene {
                 normals: &m.normals,
                 uvs: None,
                 tangents: None,
+                colors: None,
                 indices: &m.indices,
             },
             model: Mat4::IDENTITY,

@@ -237,6 +237,7 @@ fn rendered_bumped_plane_matches_the_closed_form_shading() {
             normals: &mesh.normals,
             uvs: Some(&mesh.uvs),
             tangents: Some(&mesh.tangents),
+            colors: None,
             indices: &mesh.indices,
         },
         model: Mat4::IDENTITY,

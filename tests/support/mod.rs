@@ -64,6 +64,7 @@ impl TriMesh {
             normals: &self.normals,
             uvs: None,
             tangents: None,
+            colors: None,
             indices: &self.indices,
         }
     }

@@ -129,6 +129,7 @@ pub fn triangle_ids(scene: &Scene, width: u32, height: u32, opts: &FrameOptions)
                 normals: &m.1,
                 uvs: None,
                 tangents: None,
+                colors: None,
                 indices: &m.2,
             },
             model: d.model,

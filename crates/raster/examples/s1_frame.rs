@@ -60,6 +60,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             normals: &mesh.normals,
             uvs: None,
             tangents: None,
+            colors: None,
             indices: &mesh.indices,
         },
         model: Mat4::IDENTITY,

@@ -5,10 +5,12 @@
 //! image, not on the threads). Bands are sized by work: a 1080-row image has 68 of them, many
 //! more than cores.
 //!
-//! How a band is drawn is the mode's [`Passes`], chosen once per draw: one pass
-//! ([`draw_single`]), or a depth pass ([`depth_pass`]) that leaves the nearest triangle's id per
-//! pixel followed by shading from the ids ([`by_pixel_pass`]) and/or a second traversal of
-//! the visible triangles ([`visible_pass`]).
+//! The rasterizer picks the passes from what the shader declares ([`Shader::FACE`],
+//! [`Shader::SHADE_ONCE`]): one pass ([`draw_single`]) for constant colours and for pixel
+//! stages cheaper than a depth pass; otherwise a depth pass ([`depth_pass`]) that leaves the
+//! nearest triangle's id per pixel, then the interpolated triangles shaded from the ids
+//! ([`by_pixel_pass`]) and the stepped ones (and, with the incremental scan line, every one)
+//! traversed again over the pixels they own ([`visible_pass`]).
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -16,12 +18,17 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::bin::{Binned, EXTRA_VERTEX, TriRec, band_rows};
+use crate::batch::shade_rows;
+use crate::bin::{Binned, TriRec};
+use crate::bypixel::ByPixel;
+use crate::coverage::{BandTarget, Pass, depth_only};
 use crate::framebuffer::{Framebuffer, clear_rows, mark_dirty, same_color};
 use crate::parallel::{effective_threads, pool};
-use crate::scanline::{BandTarget, ByPixel, Pass, Planes, depth_only};
-use crate::setup::{RasterTri, ScreenPos};
-use crate::shade::{Mode, Passes};
+use crate::records::{AHEAD, BandInput};
+use crate::setup::RasterTri;
+use crate::shader::{Face, Shader};
+use crate::traverse::{Planes, SpanShade};
+use crate::viewport::band_rows;
 
 /// A thread's buffers for two-pass bands, reused from band to band.
 struct Scratch {
@@ -37,92 +44,6 @@ struct Scratch {
     /// Attribute planes of the records that were nearest somewhere.
     planes: Vec<Planes>,
 }
-
-/// One draw as every band reads it: the mode, the vertex stage's screen positions `pos`
-/// ([`ScreenPos::NONE`] where a vertex has none) and attributes `attrs` (`M::ATTRS` per
-/// vertex), and the bin stage's chunks.
-pub(crate) struct BandInput<'a, M: Mode> {
-    /// The draw's mode.
-    pub mode: &'a M,
-    /// Screen position per mesh vertex.
-    pub pos: &'a [ScreenPos],
-    /// Attributes per mesh vertex.
-    pub attrs: &'a [f32],
-    /// Binned triangles, in submission order.
-    pub chunks: &'a [Binned<M::Tri>],
-    /// Perspective-correct attributes.
-    pub perspective: bool,
-}
-
-impl<M: Mode> BandInput<'_, M> {
-    /// The screen positions and first `n` attributes of record `r`'s vertices: from `c`'s
-    /// clipped vertices, or from the draw's per-vertex arrays; `None` when a vertex is
-    /// missing or has no screen position.
-    #[inline(always)]
-    fn vertices_of<'c>(
-        &'c self,
-        r: &TriRec,
-        c: &'c Binned<M::Tri>,
-        n: usize,
-    ) -> Option<([ScreenPos; 3], [&'c [f32]; 3])> {
-        if r.v.iter().any(|&i| i & EXTRA_VERTEX != 0) {
-            let v = r.v.map(|i| c.extra.get((i & !EXTRA_VERTEX) as usize));
-            let [Some(a), Some(b), Some(d)] = v else {
-                return None;
-            };
-            return Some(([a.pos(), b.pos(), d.pos()], [&a.attrs, &b.attrs, &d.attrs]));
-        }
-        let p =
-            r.v.map(|i| self.pos.get(i as usize).copied().unwrap_or(ScreenPos::NONE));
-        if p.iter().any(ScreenPos::is_none) {
-            return None;
-        }
-        let stride = M::ATTRS;
-        let a = r.v.map(|i| {
-            let i = i as usize;
-            self.attrs.get(i * stride..(i + 1) * stride).unwrap_or(&[])
-        });
-        a.iter().all(|a| a.len() >= n).then_some((p, a))
-    }
-
-    /// Set-up of record `r` of chunk `c` into `t` with `n` attributes; false when it has no
-    /// vertices or no area.
-    #[inline(always)]
-    fn setup(&self, t: &mut RasterTri, c: &Binned<M::Tri>, r: &TriRec, n: usize) -> bool {
-        self.vertices_of(r, c, n)
-            .is_some_and(|(p, a)| t.set(p, a, n, self.perspective))
-    }
-
-    /// Reads the first vertex data set-up will need of record `r` (one [`AHEAD`] places on),
-    /// so that the cache misses of fetching it (vertices are scattered over the mesh) overlap
-    /// the work on the records before it: a prefetch in safe code. The value is folded into a
-    /// sink so that the loads are kept.
-    #[inline(always)]
-    fn touch(&self, r: Option<&TriRec>, n: usize) -> u32 {
-        let Some(r) = r else { return 0 };
-        let mut sink = 0u32;
-        for &i in &r.v {
-            if i & EXTRA_VERTEX == 0 {
-                sink ^= self.pos.get(i as usize).map_or(0, |p| p.fx as u32);
-                if n > 0 {
-                    sink ^= self
-                        .attrs
-                        .get(i as usize * M::ATTRS)
-                        .map_or(0, |a| a.to_bits());
-                }
-            }
-        }
-        sink
-    }
-
-    /// Band `b`'s records, chunk after chunk, with the chunk each belongs to.
-    fn records(&self, b: usize) -> impl Iterator<Item = (&Binned<M::Tri>, &[TriRec])> {
-        self.chunks.iter().map(move |c| (c, c.band(b)))
-    }
-}
-
-/// How many records ahead the band loops touch vertex data ([`BandInput::touch`]).
-const AHEAD: usize = 4;
 
 /// Ids of the depth pass: a fresh epoch per band job in the high bits, so ids left in a
 /// thread's scratch by earlier jobs never match.
@@ -145,9 +66,9 @@ thread_local! {
 /// `block x block` per pixel, and the by-pixel pass shades each triangle once per pixel
 /// ([`ByPixel::block`]); `count` is the coverage-count test hook (no depth test, every band
 /// one pass). Returns the pixels (or, multisampled, the pixel and triangle pairs) shaded.
-pub(crate) fn draw_bands<M: Mode>(
+pub(crate) fn draw_bands<S: Shader>(
     fb: &mut Framebuffer,
-    input: &BandInput<M>,
+    input: &BandInput<S>,
     threads: usize,
     count: bool,
     block: u32,
@@ -161,6 +82,11 @@ pub(crate) fn draw_bands<M: Mode>(
     if clear.is_some() {
         fb.clean = clear;
     }
+    let one_pass = match S::FACE {
+        Face::Constant => true,
+        Face::Interpolated => !S::SHADE_ONCE,
+        Face::Stepped => false,
+    };
     let (color, depth, dirty) = (&mut fb.color, &mut fb.depth, &mut fb.dirty);
     type Rows<'a> = ((&'a mut [Vec3], &'a mut [f32]), &'a mut [(u32, u32)]);
     let run = |(b, ((color, depth), dirty)): (usize, Rows)| -> u64 {
@@ -172,7 +98,7 @@ pub(crate) fn draw_bands<M: Mode>(
         let y0 = b as i64 * band_rows as i64;
         let in_band: usize = input.records(b).map(|(_, r)| r.len()).sum();
         let mut target = BandTarget::new(color, depth, width, y0, count);
-        if M::PASSES == Passes::Single || count || in_band < 2 {
+        if one_pass || count || in_band < 2 {
             return draw_single(input, b, &mut target, dirty);
         }
         SCRATCH.with(|scratch| {
@@ -197,24 +123,24 @@ pub(crate) fn draw_bands<M: Mode>(
 
 /// Band `b` in one pass: each triangle depth-tested, shaded and written in turn. Widens the
 /// band's `dirty` columns by every triangle's box. Returns the pixels shaded.
-fn draw_single<M: Mode>(
-    input: &BandInput<M>,
+fn draw_single<S: Shader>(
+    input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
     dirty: &mut [(u32, u32)],
 ) -> u64 {
-    let (n, width, y0) = (M::ATTRS, target.width, target.y0);
+    let (n, width, y0) = (S::VARYINGS, target.width, target.y0);
+    let n = if S::FACE == Face::Constant { 0 } else { n };
     let mut t = RasterTri::empty();
+    let mut batched = input.batched();
     let (mut shaded, mut sink) = (0, 0);
     for (c, recs) in input.records(b) {
         for (i, r) in recs.iter().enumerate() {
             sink ^= input.touch(recs.get(i + AHEAD), n);
-            if let Some(tri) = c.tris.get(r.tri as usize) {
-                if input.setup(&mut t, c, r, n) {
-                    // A mode writes only inside the triangle's pixel box.
-                    mark_dirty(dirty, y0, (t.y0, t.y1), (t.x0, t.x1), width);
-                    shaded += input.mode.draw(&t, tri, target);
-                }
+            if input.setup(&mut t, c, r, n) {
+                // A shader writes only inside the triangle's pixel box.
+                mark_dirty(dirty, y0, (t.y0, t.y1), (t.x0, t.x1), width);
+                shaded += input.draw(&t, (c, r), target, &mut batched);
             }
         }
     }
@@ -222,10 +148,10 @@ fn draw_single<M: Mode>(
     shaded
 }
 
-/// Band `b` in two passes: the depth pass, then the by-pixel pass ([`Passes::ByPixel`]) and/or
-/// the visible pass over the triangles that own a pixel. Returns the pixels shaded.
-fn draw_two_pass<'s, M: Mode>(
-    input: &BandInput<M>,
+/// Band `b` in two passes: the depth pass, then the by-pixel pass and/or the visible pass
+/// over the triangles that own a pixel. Returns the pixels shaded.
+fn draw_two_pass<'s, S: Shader>(
+    input: &BandInput<S>,
     b: usize,
     mut target: BandTarget<'s>,
     dirty: &mut [(u32, u32)],
@@ -249,7 +175,7 @@ fn draw_two_pass<'s, M: Mode>(
         *d = (d.0.min(e.0), d.1.max(e.1));
     }
     let (mut shaded, mut traced) = (0, true);
-    if M::PASSES == Passes::ByPixel {
+    if !input.incremental || S::FACE == Face::Stepped {
         (shaded, traced) = by_pixel_pass(input, b, &mut target, scratch, epoch, block);
     }
     if traced {
@@ -260,13 +186,21 @@ fn draw_two_pass<'s, M: Mode>(
     shaded
 }
 
-/// The by-pixel pass of band `b` ([`Passes::ByPixel`]), after the depth pass left its ids in
-/// `scratch`: the planes of the visible records ([`visible_planes`]), then every pixel whose
-/// id names one of them gets [`Mode::shade4`] of its attributes, with no second traversal.
-/// Returns the pixels (or pixel and triangle pairs) shaded, and whether some visible record
-/// is left for [`visible_pass`].
-fn by_pixel_pass<M: Mode>(
-    input: &BandInput<M>,
+/// Whether record `r` is shaded from the id buffer (interpolated, and not walked by the
+/// incremental scan line).
+#[inline(always)]
+fn by_pixel<S: Shader>(input: &BandInput<S>, c: &Binned<S::Stepped>, r: &TriRec) -> bool {
+    let walked = input.incremental && S::FACE == Face::Interpolated;
+    !(walked || BandInput::<S>::is_stepped(c, r))
+}
+
+/// The by-pixel pass of band `b`, after the depth pass left its ids in `scratch`: the planes
+/// of the visible records ([`visible_planes`]), then every pixel whose id names one of them
+/// gets [`Shader::pixel`] of its varyings, eight pixels per call with AVX2 (else four), with
+/// no second traversal. Returns the pixels (or pixel and triangle pairs) shaded, and whether
+/// some visible record is left for [`visible_pass`].
+fn by_pixel_pass<S: Shader>(
+    input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
     scratch: &mut Scratch,
@@ -289,19 +223,35 @@ fn by_pixel_pass<M: Mode>(
         extents,
         width: target.width,
         y0: target.y0,
-        n: M::ATTRS,
-        perspective: input.perspective && M::ATTRS > 0,
+        n: S::VARYINGS,
+        perspective: input.perspective && S::VARYINGS > 0,
         block: block as usize,
     };
-    (input.mode.shade_pixels(&pass, target.color), traced)
+    let shader = input.shader;
+    let shaded = if input.wide.avx2.is_some() {
+        let wide = input.wide;
+        pass.shade::<8>(
+            target.color,
+            #[inline(always)]
+            |a, count| wide.shade8(shader, a, count),
+        )
+    } else {
+        let zero = phosphor_lighting::f32x4::ZERO;
+        pass.shade::<4>(
+            target.color,
+            #[inline(always)]
+            |a, count| shade_rows(shader, zero, a, count),
+        )
+    };
+    (shaded, traced)
 }
 
 /// The depth pass of band `b`: every triangle set up without attributes (the same edges and
 /// depth plane), depth-tested and written, and `ids[pixel]` set to `epoch + k` where record
 /// `k` of the band is now the nearest; `extents[row]` is widened to the columns written.
 /// Returns the band's record count.
-fn depth_pass<M: Mode>(
-    input: &BandInput<M>,
+fn depth_pass<S: Shader>(
+    input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
     ids: &mut [u64],
@@ -351,17 +301,17 @@ fn mark_owners(
     }
 }
 
-/// The attribute planes of band `b`'s records that own a pixel and are shaded by pixel
-/// ([`Mode::by_pixel`]): `slot[k]` is record `k`'s index in `planes`, or `u32::MAX`.
-/// Returns whether some owner is not shaded by pixel (and needs [`visible_pass`]).
-fn visible_planes<M: Mode>(
-    input: &BandInput<M>,
+/// The attribute planes of band `b`'s records that own a pixel and are shaded by pixel:
+/// `slot[k]` is record `k`'s index in `planes`, or `u32::MAX`. Returns whether some owner is
+/// not shaded by pixel (and needs [`visible_pass`]).
+fn visible_planes<S: Shader>(
+    input: &BandInput<S>,
     b: usize,
     owns: &[bool],
     slot: &mut Vec<u32>,
     planes: &mut Vec<Planes>,
 ) -> bool {
-    let n = M::ATTRS;
+    let n = S::VARYINGS;
     let mut t = RasterTri::empty();
     slot.clear();
     planes.clear();
@@ -372,7 +322,7 @@ fn visible_planes<M: Mode>(
                 sink ^= input.touch(recs.get(i + AHEAD), n);
             }
             let owner = owns.get(k) == Some(&true);
-            let by_pixel = owner && c.tris.get(r.tri as usize).is_some_and(M::by_pixel);
+            let by_pixel = owner && by_pixel(input, c, r);
             traced |= owner && !by_pixel;
             // Its pixels are known: the planes alone.
             let visible = by_pixel
@@ -394,32 +344,30 @@ fn visible_planes<M: Mode>(
     traced
 }
 
-/// The visible pass of band `b`: the records that own a pixel (after a by-pixel pass, only
-/// those it left out) traversed again, each pixel shaded where its id (in `target.ids`)
-/// names them. Returns the pixels shaded.
-fn visible_pass<M: Mode>(
-    input: &BandInput<M>,
+/// The visible pass of band `b`: the records that own a pixel and were not shaded by pixel
+/// traversed again, each pixel shaded where its id (in `target.ids`) names them. Returns the
+/// pixels shaded.
+fn visible_pass<S: Shader>(
+    input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
     owns: &[bool],
     epoch: u64,
 ) -> u64 {
-    let n = M::ATTRS;
-    let by_pixel_done = M::PASSES == Passes::ByPixel;
+    let n = S::VARYINGS;
     let mut t = RasterTri::empty();
+    let mut batched = input.batched();
     let (mut shaded, mut seq) = (0, epoch);
     for (c, recs) in input.records(b) {
         for r in recs {
             let owner = owns.get((seq - epoch) as usize) == Some(&true);
-            if let (true, Some(tri)) = (owner, c.tris.get(r.tri as usize)) {
-                if !(by_pixel_done && M::by_pixel(tri)) && input.setup(&mut t, c, r, n) {
-                    target.pass = Pass::Visible(seq);
-                    shaded += input.mode.draw(&t, tri, target);
-                }
+            if owner && !by_pixel(input, c, r) && input.setup(&mut t, c, r, n) {
+                target.pass = Pass::Visible(seq);
+                shaded += input.draw(&t, (c, r), target, &mut batched);
             }
             seq += 1;
         }
     }
-    input.mode.finish(target);
+    batched.flush(target.color);
     shaded
 }

@@ -1,63 +1,54 @@
 //! Stage 2, BIN: each triangle, in parallel chunks of the mesh's triangles and in submission
 //! order within each, is clipped where a vertex lies outside the clip volume, accepted (not
-//! degenerate, not culled, covering a pixel row inside the image), handed to the mode's
-//! triangle set-up ([`Mode::triangle`], four at a time where the mode batches), and recorded in
-//! every band it touches. The chunks are joined in order, so the records of a band and the
-//! picture do not depend on the thread count.
+//! degenerate, not culled, covering a pixel row inside the image), given its per-triangle
+//! data as the shader's [`Face`] declares (a colour, several triangles per call in lanes; or a
+//! stepped triangle), and recorded in every band it touches. The chunks are joined in order,
+//! so the records of a band and the picture do not depend on the thread count.
 
-use crate::DrawItem;
+use glam::Vec3;
+use phosphor_lighting::Lanes;
+
+use crate::batch::Wide;
 use crate::clip::{MAX_POLY, clip_triangle};
 use crate::parallel::map_chunks;
 use crate::setup::{ScreenPos, ScreenVertex, row_range, screen_area2};
-use crate::shade::{Mode, TriInput, TriVertices, VertexIn};
-use crate::vertex::{DrawVertices, Viewport};
-
-/// Pixel rows per band. A multisampled image's bands hold this many rows of pixels, `block`
-/// sample rows each ([`band_rows`]): bands of the same pixel rows keep the same split of the
-/// work over threads, and a triangle is set up in no more bands than without multisampling.
-pub const BAND_ROWS: u32 = 16;
-
-/// Scan lines per band of an image with `block x block` samples per pixel (1: none).
-#[must_use]
-pub const fn band_rows(block: u32) -> u32 {
-    BAND_ROWS * block
-}
+use crate::shader::{
+    Face, MAX_VARYINGS, ScreenCorner, ScreenTriangle, Shader, Stepped, TriangleLanes,
+};
+use crate::vertex::{DrawVertices, VertexIn, gather, varyings_one};
+use crate::viewport::Viewport;
 
 /// Marks a [`TriRec`] vertex that lives in its chunk's [`Binned::extra`] (made by clipping).
 pub const EXTRA_VERTEX: u32 = 1 << 31;
 
 /// One triangle to draw: its screen vertices (indices into the draw's per-vertex array, or
-/// with [`EXTRA_VERTEX`] into the chunk's clipped vertices) and the index of its mode data.
+/// with [`EXTRA_VERTEX`] into the chunk's clipped vertices) and the index of its per-triangle
+/// data ([`Binned::colors`] or [`Binned::stepped`], as the shader's face says).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct TriRec {
     /// Vertex references.
     pub v: [u32; 3],
-    /// Index into [`Binned::tris`].
+    /// Index of the triangle's data.
     pub tri: u32,
 }
 
 /// The accepted triangles of one chunk, grouped by band.
-#[derive(Debug, Clone, Default)]
-pub struct Binned<T> {
+pub(crate) struct Binned<T> {
     /// Records, band by band, in submission order within each band.
     pub recs: Vec<TriRec>,
     /// Band `b`'s records are `recs[starts[b]..starts[b + 1]]`.
     pub starts: Vec<u32>,
-    /// Mode data per accepted triangle.
-    pub tris: Vec<T>,
+    /// [`Face::Constant`]: each triangle's colour.
+    pub colors: Vec<Vec3>,
+    /// [`Face::Stepped`]: each triangle's stepped data, or `None` to interpolate it.
+    pub stepped: Vec<Option<Box<Stepped<T>>>>,
     /// Screen vertices made by clipping.
     pub extra: Vec<ScreenVertex>,
 }
 
 impl<T> Binned<T> {
     /// Groups `staged` (record, first band, last band) by band, keeping their order.
-    #[must_use]
-    pub fn new(
-        staged: &[(TriRec, u32, u32)],
-        bands: usize,
-        tris: Vec<T>,
-        extra: Vec<ScreenVertex>,
-    ) -> Binned<T> {
+    fn new(staged: &[(TriRec, u32, u32)], bands: usize, data: TriData<T>) -> Binned<T> {
         let mut starts = vec![0u32; bands + 1];
         for &(_, b0, b1) in staged {
             for b in b0..=b1 {
@@ -78,8 +69,9 @@ impl<T> Binned<T> {
         Binned {
             recs,
             starts,
-            tris,
-            extra,
+            colors: data.colors,
+            stepped: data.stepped,
+            extra: data.extra,
         }
     }
 
@@ -90,6 +82,19 @@ impl<T> Binned<T> {
             _ => &[],
         }
     }
+
+    /// The stepped data of record `r`, if it has some.
+    #[inline(always)]
+    pub fn stepped_of(&self, r: &TriRec) -> Option<&Stepped<T>> {
+        self.stepped.get(r.tri as usize).and_then(|s| s.as_deref())
+    }
+}
+
+/// The per-triangle data a chunk builds.
+struct TriData<T> {
+    colors: Vec<Vec3>,
+    stepped: Vec<Option<Box<Stepped<T>>>>,
+    extra: Vec<ScreenVertex>,
 }
 
 /// The bands `[first, last]` of `rows` scan lines each that rows `[lo, hi)` touch in an
@@ -110,35 +115,33 @@ pub(crate) struct BinnedDraw<T> {
     pub chunks: Vec<Binned<T>>,
     /// Triangles that passed acceptance (on screen or not).
     pub drawn: u64,
-    /// Triangles whose set-up fell back to a costlier kernel ([`Mode::is_fallback`]).
+    /// Triangles [`Shader::stepped`] refused (drawn interpolated instead).
     pub fallbacks: u64,
 }
 
-/// Runs the bin stage of draw `d` (its vertices `verts`) for `mode` on `threads`; back faces
-/// are dropped when `cull`.
-pub(crate) fn bin_draw<M: Mode>(
-    d: &DrawItem,
-    mode: &M,
-    verts: &DrawVertices,
-    view: &Viewport,
-    cull: bool,
-    threads: usize,
-) -> BinnedDraw<M::Tri> {
-    let chunks = map_chunks(threads, d.mesh.indices, CHUNK, |indices| {
-        bin_chunk(indices, mode, verts, view, cull)
+/// What the bin stage of one draw reads.
+pub(crate) struct BinInput<'a, S> {
+    pub shader: &'a S,
+    pub indices: &'a [[u32; 3]],
+    pub verts: &'a DrawVertices,
+    pub view: &'a Viewport,
+    pub cull: bool,
+    pub wide: Wide,
+}
+
+/// Runs the bin stage of one draw on `threads`.
+pub(crate) fn bin_draw<S: Shader>(input: &BinInput<S>, threads: usize) -> BinnedDraw<S::Stepped> {
+    let chunks = map_chunks(threads, input.indices, CHUNK, |indices| {
+        bin_chunk(input, indices)
     });
     let mut out = BinnedDraw {
         chunks: Vec::with_capacity(chunks.len()),
         drawn: 0,
         fallbacks: 0,
     };
-    for (binned, drawn) in chunks {
+    for (binned, drawn, fallbacks) in chunks {
         out.drawn += drawn;
-        out.fallbacks += binned
-            .tris
-            .iter()
-            .map(|t| u64::from(M::is_fallback(t)))
-            .sum::<u64>();
+        out.fallbacks += fallbacks;
         out.chunks.push(binned);
     }
     out
@@ -165,21 +168,40 @@ fn on_screen(v: [ScreenPos; 3], rows: (i64, i64), view: &Viewport) -> Option<(u3
     band_range(rows.0, rows.1, view.height, view.band_rows).filter(|_| cols)
 }
 
-/// Bins one chunk of triangles; returns them with the count accepted.
-fn bin_chunk<M: Mode>(
+/// Bins one chunk of triangles; returns them with the counts accepted and refused stepping.
+fn bin_chunk<S: Shader>(
+    input: &BinInput<S>,
     indices: &[[u32; 3]],
-    mode: &M,
-    verts: &DrawVertices,
-    view: &Viewport,
-    cull: bool,
-) -> (Binned<M::Tri>, u64) {
+) -> (Binned<S::Stepped>, u64, u64) {
+    let (shader, verts, view) = (input.shader, input.verts, input.view);
     let persp = view.perspective;
     let bands = view.height.div_ceil(view.band_rows) as usize;
     let mut staged: Vec<(TriRec, u32, u32)> = Vec::with_capacity(indices.len());
-    let mut tris = Vec::with_capacity(indices.len());
-    let mut extra = Vec::new();
-    let mut batch = Batch::new(mode, persp);
-    let mut drawn = 0;
+    let mut data = TriData {
+        colors: Vec::new(),
+        stepped: Vec::new(),
+        extra: Vec::new(),
+    };
+    let mut batch = Batch::new(input);
+    let (mut drawn, mut fallbacks) = (0, 0);
+    let mut stepped = |data: &mut TriData<S::Stepped>,
+                       p: &[ScreenPos; 3],
+                       corners: &dyn Fn() -> [ScreenCorner; 3]| {
+        let area = screen_area2(p).unsigned_abs() as f64 / 131_072.0; // 2 * 256^2
+        let s = if area < shader.min_stepped_area() {
+            None
+        } else {
+            let t = ScreenTriangle {
+                corners: corners(),
+                perspective: persp,
+            };
+            let s = shader.stepped(&t).map(Box::new);
+            fallbacks += u64::from(s.is_none());
+            s
+        };
+        data.stepped.push(s);
+        (data.stepped.len() - 1) as u32
+    };
     for idx in indices {
         if idx.iter().any(|&i| i as usize >= verts.clip.len()) {
             continue;
@@ -188,56 +210,44 @@ fn bin_chunk<M: Mode>(
         let p = i.map(|i| verts.pos[i]);
         if !p.iter().any(ScreenPos::is_none) {
             // The common case: no clipping, screen vertices from the vertex stage.
-            let Some(rows) = accept(p, cull) else {
+            let Some(rows) = accept(p, input.cull) else {
                 continue;
             };
             drawn += 1;
             let Some((b0, b1)) = on_screen(p, rows, view) else {
                 continue;
             };
-            let tri = if let Some(tri) = mode.triangle_from_positions(&p) {
-                batch.push(tri, &mut tris)
-            } else {
-                match M::INPUT {
-                    TriInput::Positions => {
-                        batch.push(mode.triangle(TriVertices::Positions, persp), &mut tris)
-                    }
-                    TriInput::World => batch.queue(i.map(|i| &verts.clip[i].1), &mut tris),
-                    TriInput::Screen => {
-                        let [Some(a), Some(b), Some(c)] = i.map(|i| verts.screen.get(i)?.as_ref())
-                        else {
-                            continue;
-                        };
-                        batch.push(
-                            mode.triangle(TriVertices::Screen([a, b, c]), persp),
-                            &mut tris,
-                        )
-                    }
-                    TriInput::ScreenPerTriangle => {
-                        let s = i.map(|i| view.screen(&verts.clip_vertex(mode, i), M::ATTRS));
-                        let [Some(a), Some(b), Some(c)] = &s else {
-                            continue;
-                        };
-                        batch.push(
-                            mode.triangle(TriVertices::Screen([a, b, c]), persp),
-                            &mut tris,
-                        )
-                    }
+            let tri = match S::FACE {
+                Face::Interpolated => 0,
+                Face::Constant => batch.queue(i.map(|i| &verts.clip[i].1), &mut data.colors),
+                Face::Stepped => {
+                    let corners = || {
+                        std::array::from_fn(|k| {
+                            let (clip, v) = &verts.clip[i[k]];
+                            let a = varyings_one(shader, v);
+                            ScreenCorner {
+                                x: f64::from(p[k].fx) / 256.0,
+                                y: f64::from(p[k].fy) / 256.0,
+                                rhw: 1.0 / f64::from(clip.w),
+                                varyings: std::array::from_fn(|j| f64::from(a[j])),
+                            }
+                        })
+                    };
+                    stepped(&mut data, &p, &corners)
                 }
             };
             staged.push((TriRec { v: *idx, tri }, b0, b1));
             continue;
         }
-        let tri = i.map(|i| verts.clip_vertex(mode, i));
+        let tri = i.map(|i| verts.clip_vertex(shader, i));
         if !tri.iter().all(|v| v.pos.is_finite()) {
             continue;
         }
-        let src = i.map(|i| &verts.clip[i].1);
-        let poly = clip_triangle(&tri, M::ATTRS, view.guard);
+        let poly = clip_triangle(&tri, S::VARYINGS, view.guard);
         let pv = poly.vertices();
         let mut sv = [None; MAX_POLY];
         for (s, v) in sv.iter_mut().zip(pv) {
-            *s = view.project(v, M::ATTRS);
+            *s = view.project(v, S::VARYINGS);
         }
         let mut any = false;
         // The clipped polygon is convex: a fan keeps the winding.
@@ -246,81 +256,144 @@ fn bin_chunk<M: Mode>(
                 continue;
             };
             let p = [a.pos(), b.pos(), c.pos()];
-            let Some(rows) = accept(p, cull) else {
+            let Some(rows) = accept(p, input.cull) else {
                 continue;
             };
             any = true;
             let Some((b0, b1)) = on_screen(p, rows, view) else {
                 continue;
             };
-            let input = match M::INPUT {
-                TriInput::Positions => TriVertices::Positions,
-                TriInput::World => TriVertices::World(src),
-                TriInput::Screen | TriInput::ScreenPerTriangle => TriVertices::Screen([a, b, c]),
+            let tri = match S::FACE {
+                Face::Interpolated => 0,
+                // The whole triangle's corners: the same plane.
+                Face::Constant => batch.queue(i.map(|i| &verts.clip[i].1), &mut data.colors),
+                Face::Stepped => {
+                    let corners = || [a, b, c].map(|s| corner_of(s, persp));
+                    stepped(&mut data, &p, &corners)
+                }
             };
-            let base = extra.len() as u32;
-            extra.extend([*a, *b, *c]);
+            let base = data.extra.len() as u32;
+            data.extra.extend([*a, *b, *c]);
             let rec = TriRec {
                 v: [base, base + 1, base + 2].map(|i| i | EXTRA_VERTEX),
-                tri: batch.push(mode.triangle(input, persp), &mut tris),
+                tri,
             };
             staged.push((rec, b0, b1));
         }
         drawn += u64::from(any);
     }
-    batch.flush(&mut tris);
-    (Binned::new(&staged, bands, tris, extra), drawn)
+    batch.flush(&mut data.colors);
+    (Binned::new(&staged, bands, data), drawn, fallbacks)
 }
 
-/// Triangles of a [`TriInput::World`] mode waiting for their data, computed four at a time
-/// ([`Mode::triangle4`]); they wait as references to their vertices, not copies.
-struct Batch<'m, 'v, M> {
-    mode: &'m M,
-    perspective: bool,
-    queued: [Option<[&'v VertexIn; 3]>; 4],
+/// The stepped stage's view of a corner made by clipping (its varyings divided by `w` back).
+fn corner_of(s: &ScreenVertex, perspective: bool) -> ScreenCorner {
+    let scale = if perspective { 1.0 / s.rhw } else { 1.0 };
+    ScreenCorner {
+        x: s.x,
+        y: s.y,
+        rhw: s.rhw,
+        varyings: std::array::from_fn(|k| {
+            if k < MAX_VARYINGS {
+                f64::from(s.attrs[k]) * scale
+            } else {
+                0.0
+            }
+        }),
+    }
+}
+
+/// Triangles of a [`Face::Constant`] shader waiting for their colours, computed eight at a
+/// time with AVX2 (else four) by [`Shader::constant`]; they wait as references to their
+/// world vertices, not copies.
+struct Batch<'a, 'v, S> {
+    input: &'a BinInput<'a, S>,
+    queued: [[&'v VertexIn; 3]; 8],
     len: usize,
+    width: usize,
 }
 
-impl<'m, 'v, M: Mode> Batch<'m, 'v, M> {
-    fn new(mode: &'m M, perspective: bool) -> Batch<'m, 'v, M> {
+impl<'a, 'v, S: Shader> Batch<'a, 'v, S> {
+    fn new(input: &'a BinInput<'a, S>) -> Batch<'a, 'v, S> {
+        const NONE: VertexIn = VertexIn {
+            world: Vec3::ZERO,
+            normal: Vec3::ZERO,
+            uv: glam::Vec2::ZERO,
+            tangent: glam::Vec4::ZERO,
+            color: Vec3::ONE,
+        };
         Batch {
-            mode,
-            perspective,
-            queued: [None; 4],
+            input,
+            queued: [[&NONE; 3]; 8],
             len: 0,
+            width: if input.wide.avx2.is_some() { 8 } else { 4 },
         }
     }
 
-    /// Queues a triangle; returns the index its data will have in `tris`.
-    fn queue(&mut self, v: [&'v VertexIn; 3], tris: &mut Vec<M::Tri>) -> u32 {
-        let at = (tris.len() + self.len) as u32;
-        self.queued[self.len] = Some(v);
+    /// Queues a triangle; returns the index its colour will have in `colors`.
+    fn queue(&mut self, v: [&'v VertexIn; 3], colors: &mut Vec<Vec3>) -> u32 {
+        let at = (colors.len() + self.len) as u32;
+        self.queued[self.len] = v;
         self.len += 1;
-        if self.len == 4 {
-            self.flush(tris);
+        if self.len == self.width {
+            self.flush(colors);
         }
         at
     }
 
-    /// Adds data already computed, after the queued triangles; returns its index in `tris`.
-    fn push(&mut self, tri: M::Tri, tris: &mut Vec<M::Tri>) -> u32 {
-        self.flush(tris);
-        tris.push(tri);
-        (tris.len() - 1) as u32
-    }
-
-    /// Computes the queued triangles' data into `tris`.
-    fn flush(&mut self, tris: &mut Vec<M::Tri>) {
+    /// Computes the queued triangles' colours into `colors`.
+    fn flush(&mut self, colors: &mut Vec<Vec3>) {
         let len = std::mem::take(&mut self.len);
-        let Some(first) = self.queued[0] else {
+        if len == 0 {
             return;
-        };
+        }
         // Lanes past `len` repeat the first triangle; their results are dropped.
-        let lane = |k: usize| self.queued[k].filter(|_| k < len).unwrap_or(first);
-        let out = self
-            .mode
-            .triangle4(std::array::from_fn(lane), self.perspective);
-        tris.extend(out.into_iter().take(len));
-        self.queued = [None; 4];
+        let tris: [[&VertexIn; 3]; 8] =
+            std::array::from_fn(|k| self.queued[if k < len { k } else { 0 }]);
+        let task = Colors {
+            shader: self.input.shader,
+            tris: &tris,
+        };
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = self.input.wide.avx2 {
+            let c = avx2.run(task);
+            colors.extend_from_slice(&c[..len]);
+            return;
+        }
+        let c = task.colors(phosphor_lighting::f32x4::ZERO);
+        colors.extend_from_slice(&c[..len]);
+    }
+}
+
+/// [`Shader::constant`] of up to eight triangles.
+struct Colors<'a, 'v, S> {
+    shader: &'a S,
+    tris: &'a [[&'v VertexIn; 3]; 8],
+}
+
+impl<S: Shader> Colors<'_, '_, S> {
+    #[inline(always)]
+    fn colors<L: Lanes>(&self, like: L) -> [Vec3; 8] {
+        // One corner of every triangle as lanes (a macro: inlined, so what the shader does
+        // not read is never gathered).
+        macro_rules! corner {
+            ($c:expr) => {{
+                let v: [&VertexIn; 8] = std::array::from_fn(|k| self.tris[k][$c]);
+                gather(like, &v[..L::N])
+            }};
+        }
+        let t = TriangleLanes {
+            corners: [corner!(0), corner!(1), corner!(2)],
+        };
+        self.shader.constant(&t).to_vecs()
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<S: Shader> phosphor_lighting::Avx2Task for Colors<'_, '_, S> {
+    type Output = [Vec3; 8];
+    #[inline(always)]
+    fn run(self, s: phosphor_lighting::Avx2) -> [Vec3; 8] {
+        self.colors(s.splat(0.0))
     }
 }

@@ -7,9 +7,8 @@
 
 use glam::{DVec4, Vec4};
 
-/// Vertex attributes carried through clipping and interpolation (world position, normal,
-/// uv, tangent, or a Gouraud intensity; the shading mode says which).
-pub const MAX_ATTRS: usize = 12;
+/// Vertex attributes carried through clipping and interpolation: a shader's varyings.
+pub const MAX_ATTRS: usize = crate::shader::MAX_VARYINGS;
 
 /// Attribute storage of one vertex.
 pub type Attrs = [f32; MAX_ATTRS];

@@ -37,7 +37,7 @@
 //! let lights = LightSet::new(Vec3::splat(0.1), &[Light::directional(-Vec3::Z, Vec3::ONE).unwrap()]);
 //! let material = Material::s1();
 //! let draw = DrawItem {
-//!     mesh: MeshView { positions: &positions, normals: &normals, uvs: None, tangents: None, indices: &indices },
+//!     mesh: MeshView::new(&positions, &normals, &indices),
 //!     model: Mat4::IDENTITY,
 //!     material: &material,
 //!     lights: &lights,
@@ -67,19 +67,27 @@ use phosphor_lighting::{Effects, LightSet, Material};
 
 pub mod antialias;
 pub(crate) mod bands;
+pub(crate) mod batch;
 pub(crate) mod bin;
 pub mod bump;
+pub(crate) mod bypixel;
 pub mod camera;
 pub(crate) mod clip;
+pub(crate) mod coverage;
 pub mod encode;
 pub mod framebuffer;
+pub(crate) mod incremental;
+pub(crate) mod multisample;
 pub(crate) mod parallel;
+pub(crate) mod records;
 mod render;
-pub(crate) mod scanline;
 pub(crate) mod setup;
-pub(crate) mod shade;
+pub mod shader;
+pub mod shaders;
 pub mod simd;
+pub(crate) mod traverse;
 pub(crate) mod vertex;
+pub(crate) mod viewport;
 
 #[cfg(test)]
 mod tests;
@@ -89,9 +97,10 @@ pub use bump::{BumpMap, ProceduralBump};
 pub use camera::Camera;
 pub use encode::Encoding;
 pub use framebuffer::{Framebuffer, RasterError};
-pub use render::{coverage_counts, render, render_fill_only};
-pub use shade::fast_phong::FAST_PHONG_TOLERANCE;
-pub use shade::taylor::MAX_TAYLOR_LIGHTS;
+pub use render::{Frame, coverage_counts, render, render_fill_only};
+pub use shader::Shader;
+pub use shaders::check::FAST_PHONG_TOLERANCE;
+pub use shaders::taylor::MAX_TAYLOR_LIGHTS;
 pub use simd::{SimdLevel, UnknownSimdLevel};
 
 /// The shading modes; names as used by the CLI and scene files.
@@ -268,8 +277,29 @@ pub struct MeshView<'a> {
     pub uvs: Option<&'a [Vec2]>,
     /// Tangents with handedness in `w` (needed for bump mapping).
     pub tangents: Option<&'a [Vec4]>,
+    /// Vertex colours, linear RGB (white without).
+    pub colors: Option<&'a [Vec3]>,
     /// Triangles, counter-clockwise = front; out-of-range indices are skipped.
     pub indices: &'a [[u32; 3]],
+}
+
+impl<'a> MeshView<'a> {
+    /// Positions, normals and triangles, with no uvs, tangents or colours.
+    #[must_use]
+    pub const fn new(
+        positions: &'a [Vec3],
+        normals: &'a [Vec3],
+        indices: &'a [[u32; 3]],
+    ) -> MeshView<'a> {
+        MeshView {
+            positions,
+            normals,
+            uvs: None,
+            tangents: None,
+            colors: None,
+            indices,
+        }
+    }
 }
 
 /// One object to draw.

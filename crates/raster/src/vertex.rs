@@ -1,74 +1,37 @@
 //! Stage 1, VERTEX: every mesh vertex once (a vertex is shared by about six triangles), in
-//! parallel: model, view and projection; the normal by the inverse transpose; the mode's
-//! attributes; and, for a vertex inside every clip plane, its snapped screen position and
-//! attributes (divided by `w`), stored compactly because the later stages fetch vertices from
-//! all over the mesh and a compact vertex spans fewer cache lines.
+//! parallel: model, view and projection; the normal by the inverse transpose; then, eight
+//! vertices at a time with AVX2 (else four), the shader's varyings ([`Shader::vertex`]) and,
+//! for a vertex inside every clip plane, its snapped screen position and varyings divided by
+//! `w`, stored compactly because the later stages fetch vertices from all over the mesh and a
+//! compact vertex spans fewer cache lines.
 
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use phosphor_lighting::{F32x1, Lanes, Vec3s};
 
-use crate::DrawItem;
-use crate::clip::{Attrs, ClipVertex, guard_band, inside_clip_volume};
+use crate::MeshView;
+use crate::batch::Wide;
+use crate::clip::{Attrs, ClipVertex, MAX_ATTRS};
 use crate::parallel::{for_each_chunk_pair, map_indices};
-use crate::setup::{ScreenPos, ScreenVertex, attr_scale, project, to_screen};
-use crate::shade::{Mode, TriInput, VertexIn};
+use crate::setup::ScreenPos;
+use crate::shader::{Shader, VertexLanes};
+use crate::viewport::Viewport;
 
-/// The image a draw is projected onto.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Viewport {
-    /// Image width in pixels (or samples).
-    pub width: u32,
-    /// Image height.
-    pub height: u32,
-    /// The guard band's extent in clip space ([`guard_band`]).
-    pub guard: (f32, f32),
-    /// Whether attributes are divided by `w` (perspective-correct interpolation).
-    pub perspective: bool,
-    /// Scan lines per band ([`crate::bin::band_rows`]).
-    pub band_rows: u32,
-}
-
-impl Viewport {
-    /// A `width` x `height` image with `block x block` samples per pixel (1: one).
-    pub fn new(width: u32, height: u32, perspective: bool, block: u32) -> Viewport {
-        Viewport {
-            width,
-            height,
-            guard: guard_band(width, height),
-            perspective,
-            band_rows: crate::bin::band_rows(block),
-        }
-    }
-
-    /// The screen vertex of `cv` with `n` attributes, when it is inside every clip plane
-    /// (a triangle of three such vertices is not changed by clipping).
-    #[inline]
-    pub fn screen(&self, cv: &ClipVertex, n: usize) -> Option<ScreenVertex> {
-        self.inside(cv.pos).then(|| self.project(cv, n)).flatten()
-    }
-
-    /// Whether `pos` is finite and inside every clip plane (see [`Viewport::screen`]).
-    #[inline]
-    fn inside(&self, pos: Vec4) -> bool {
-        pos.is_finite() && inside_clip_volume(pos, self.guard)
-    }
-
-    /// Divide and viewport of `cv` with `n` attributes, with no clip-volume test (for the
-    /// corners clipping made, which lie on its planes).
-    #[inline]
-    pub fn project(&self, cv: &ClipVertex, n: usize) -> Option<ScreenVertex> {
-        to_screen(cv, self.width, self.height, n, self.perspective)
-    }
-
-    /// [`Viewport::screen`]'s position and the scale of its attributes (`1/w` when
-    /// perspective-correct, else 1), with the same bits.
-    #[inline]
-    fn screen_pos(&self, pos: Vec4) -> Option<(ScreenPos, f32)> {
-        if !self.inside(pos) {
-            return None;
-        }
-        let (p, rhw) = project(pos, self.width, self.height, self.perspective)?;
-        Some((p, attr_scale(rhw, self.perspective)))
-    }
+/// One mesh vertex in world space, as the vertex stage hands it on. Laid out in order (the
+/// first eight floats are position, normal and uv, the next seven tangent and colour), so that
+/// eight vertices become lanes by two transposes ([`gather`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
+pub struct VertexIn {
+    /// World position.
+    pub world: Vec3,
+    /// World normal (unit, or zero when the input was degenerate).
+    pub normal: Vec3,
+    /// Texture coordinate (zero without uvs).
+    pub uv: Vec2,
+    /// World tangent with handedness in `w` (zero without tangents).
+    pub tangent: Vec4,
+    /// Vertex colour (white without colours).
+    pub color: Vec3,
 }
 
 /// One draw's vertices after the vertex stage.
@@ -77,94 +40,169 @@ pub(crate) struct DrawVertices {
     pub clip: Vec<(Vec4, VertexIn)>,
     /// Snapped screen position per vertex ([`ScreenPos::NONE`] outside the clip volume).
     pub pos: Vec<ScreenPos>,
-    /// The mode's attributes, `M::ATTRS` per vertex (divided by `w` when perspective).
+    /// The shader's varyings, `S::VARYINGS` per vertex (divided by `w` when perspective).
     pub attrs: Vec<f32>,
-    /// Whole screen vertices, for modes whose [`Mode::INPUT`] is [`TriInput::Screen`]
-    /// (empty otherwise: a whole one is over 100 bytes).
-    pub screen: Vec<Option<ScreenVertex>>,
 }
 
 impl DrawVertices {
-    /// Vertex `i` in clip space with `mode`'s attributes (not divided by `w`): what clipping
-    /// starts from. Its screen vertex has the bits of the one the stage stored.
+    /// Vertex `i` in clip space with `shader`'s varyings (not divided by `w`): what clipping
+    /// and stepped triangles start from.
     #[inline]
-    pub fn clip_vertex<M: Mode>(&self, mode: &M, i: usize) -> ClipVertex {
+    pub fn clip_vertex<S: Shader>(&self, shader: &S, i: usize) -> ClipVertex {
         ClipVertex {
             pos: self.clip[i].0,
-            attrs: mode.vertex(&self.clip[i].1),
+            attrs: varyings_one(shader, &self.clip[i].1),
         }
     }
 }
 
-/// Runs the vertex stage of draw `d` for `mode` (`vp`: view-projection) on `threads`.
-pub(crate) fn vertex_stage<M: Mode>(
-    d: &DrawItem,
+/// The varyings of one vertex (one lane: the bits every width gives).
+#[inline]
+pub(crate) fn varyings_one<S: Shader>(shader: &S, v: &VertexIn) -> Attrs {
+    let out = shader.vertex(&gather(F32x1(0.0), &[v]));
+    let mut a = [0.0; MAX_ATTRS];
+    for k in 0..S::VARYINGS.min(MAX_ATTRS) {
+        a[k] = out[k].0;
+    }
+    a
+}
+
+/// The vertices `v` (at most `L::N`, at least one; the last repeated) as lanes of the kind
+/// of `like`: two transposes of eight floats per vertex (a half no shader reads is never
+/// built).
+#[inline(always)]
+pub(crate) fn gather<L: Lanes>(like: L, v: &[&VertexIn]) -> VertexLanes<L> {
+    let last = v.len().saturating_sub(1);
+    let lo: [[f32; 8]; 8] = std::array::from_fn(|k| {
+        let v = v[k.min(last)];
+        let (p, n, uv) = (v.world, v.normal, v.uv);
+        [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y]
+    });
+    let hi: [[f32; 8]; 8] = std::array::from_fn(|k| {
+        let v = v[k.min(last)];
+        let (t, c) = (v.tangent, v.color);
+        [t.x, t.y, t.z, t.w, c.x, c.y, c.z, 0.0]
+    });
+    let (a, b) = (like.columns(&lo), like.columns(&hi));
+    VertexLanes {
+        position: Vec3s::new(a[0], a[1], a[2]),
+        normal: Vec3s::new(a[3], a[4], a[5]),
+        uv: [a[6], a[7]],
+        tangent: [b[0], b[1], b[2], b[3]],
+        color: Vec3s::new(b[4], b[5], b[6]),
+    }
+}
+
+/// Runs the vertex stage of a draw of `mesh` (`model` to world, `vp` view-projection) for
+/// `shader` on `threads`.
+pub(crate) fn vertex_stage<S: Shader>(
+    mesh: &MeshView,
+    model: Mat4,
     vp: Mat4,
-    mode: &M,
+    shader: &S,
     view: &Viewport,
-    threads: usize,
+    (threads, wide): (usize, Wide),
 ) -> DrawVertices {
-    let clip = transform(d, vp, threads);
+    let clip = transform(mesh, model, vp, threads);
     let mut pos = vec![ScreenPos::NONE; clip.len()];
-    let mut attrs = vec![0.0; clip.len() * M::ATTRS];
+    let n = S::VARYINGS;
+    let mut attrs = vec![0.0; clip.len() * n];
     for_each_chunk_pair(
         threads,
         &mut pos,
         &mut attrs,
-        (4096, M::ATTRS),
+        (4096, n),
         |first, pos, attrs| {
             let src = &clip[first..first + pos.len()];
-            // Position and the mode's attributes of vertex `i` (of this chunk), scaled as
-            // `to_screen` scales them.
-            let mut put = |i: usize, v: &Vec4, a: &Attrs| {
-                if let Some((p, scale)) = view.screen_pos(*v) {
-                    pos[i] = p;
-                    let out = attrs.get_mut(i * M::ATTRS..(i + 1) * M::ATTRS);
-                    for (o, a) in out.unwrap_or(&mut []).iter_mut().zip(a) {
-                        *o = a * scale;
-                    }
-                }
+            let chunk = Chunk {
+                shader,
+                src,
+                view,
+                pos,
+                attrs,
             };
-            if !M::VERTEX_BATCH {
-                for (i, v) in src.iter().enumerate() {
-                    put(i, &v.0, &mode.vertex(&v.1));
-                }
+            #[cfg(target_arch = "x86_64")]
+            if let Some(avx2) = wide.avx2 {
+                avx2.run(chunk);
                 return;
             }
-            for (g, group) in src.chunks(8).enumerate() {
-                let a8 = mode.vertex8(std::array::from_fn(|k| &group[k.min(group.len() - 1)].1));
-                for (j, (v, a)) in group.iter().zip(&a8).enumerate() {
-                    put(8 * g + j, &v.0, a);
-                }
-            }
+            chunk.vary(phosphor_lighting::f32x4::ZERO);
         },
     );
-    let mut out = DrawVertices {
-        clip,
-        pos,
-        attrs,
-        screen: Vec::new(),
-    };
-    if matches!(M::INPUT, TriInput::Screen) {
-        out.screen = map_indices(threads, out.clip.len(), 4096, |i| {
-            view.screen(&out.clip_vertex(mode, i), M::ATTRS)
-        });
-    }
-    out
+    DrawVertices { clip, pos, attrs }
 }
 
-/// World position, normal (inverse transpose), uv and tangent per vertex, with the
+/// One parallel chunk of the vertex stage.
+struct Chunk<'a, S> {
+    shader: &'a S,
+    src: &'a [(Vec4, VertexIn)],
+    view: &'a Viewport,
+    pos: &'a mut [ScreenPos],
+    attrs: &'a mut [f32],
+}
+
+impl<S: Shader> Chunk<'_, S> {
+    /// Positions and varyings of the chunk's vertices, `L::N` at a time.
+    #[inline(always)]
+    fn vary<L: Lanes>(self, like: L) {
+        let n = S::VARYINGS;
+        for (g, group) in self.src.chunks(L::N).enumerate() {
+            let base = g * L::N;
+            let mut scale = [0.0f32; 8];
+            let mut on_screen = false;
+            for (j, v) in group.iter().enumerate() {
+                if let Some((p, s)) = self.view.screen_pos(v.0) {
+                    self.pos[base + j] = p;
+                    scale[j] = s;
+                    on_screen = true;
+                }
+            }
+            if n == 0 || !on_screen {
+                continue;
+            }
+            let refs: [&VertexIn; 8] = std::array::from_fn(|k| &group[k.min(group.len() - 1)].1);
+            let out = self.shader.vertex(&gather(like, &refs[..L::N]));
+            // Scaled as `to_screen` scales them (one IEEE product per value).
+            let scale = like.with_lanes(scale);
+            let mut cols = [[0.0f32; 8]; MAX_ATTRS];
+            for k in 0..n {
+                cols[k] = (out[k] * scale).to_lanes();
+            }
+            for (j, pos) in self.pos[base..base + group.len()].iter().enumerate() {
+                if pos.is_none() {
+                    continue;
+                }
+                let at = (base + j) * n;
+                if let Some(row) = self.attrs.get_mut(at..at + n) {
+                    for (k, a) in row.iter_mut().enumerate() {
+                        *a = cols[k][j];
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<S: Shader> phosphor_lighting::Avx2Task for Chunk<'_, S> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self, s: phosphor_lighting::Avx2) {
+        self.vary(s.splat(0.0));
+    }
+}
+
+/// World position, normal (inverse transpose), uv, tangent and colour per vertex, with the
 /// clip-space position.
-fn transform(d: &DrawItem, vp: Mat4, threads: usize) -> Vec<(Vec4, VertexIn)> {
-    let m3 = Mat3::from_mat4(d.model);
+fn transform(mesh: &MeshView, model: Mat4, vp: Mat4, threads: usize) -> Vec<(Vec4, VertexIn)> {
+    let m3 = Mat3::from_mat4(model);
     let normal_matrix = {
         let nm = m3.inverse().transpose();
         if nm.is_finite() { nm } else { m3 }
     };
     let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
-    let mesh = &d.mesh;
     map_indices(threads, mesh.positions.len(), 4096, |i| {
-        let world = d.model.transform_point3(mesh.positions[i]);
+        let world = model.transform_point3(mesh.positions[i]);
         let normal = mesh
             .normals
             .get(i)
@@ -179,6 +217,10 @@ fn transform(d: &DrawItem, vp: Mat4, threads: usize) -> Vec<(Vec4, VertexIn)> {
             .map_or(Vec4::ZERO, |t| {
                 (m3 * t.truncate()).normalize_or_zero().extend(t.w * flip)
             });
+        let color = mesh
+            .colors
+            .and_then(|c| c.get(i).copied())
+            .unwrap_or(Vec3::ONE);
         (
             vp * world.extend(1.0),
             VertexIn {
@@ -186,6 +228,7 @@ fn transform(d: &DrawItem, vp: Mat4, threads: usize) -> Vec<(Vec4, VertexIn)> {
                 normal,
                 uv,
                 tangent,
+                color,
             },
         )
     })

@@ -34,6 +34,7 @@ pub fn draw_items(plan: &FramePlan) -> Vec<DrawItem<'_>> {
                     normals: &m.normals,
                     uvs: m.uvs.as_deref(),
                     tangents: m.tangents.as_deref(),
+                    colors: None,
                     indices: &m.indices,
                 },
                 model: o.model,

@@ -14,28 +14,19 @@
 //! [`phosphor_lighting::specular_upper_bound`] says the specular could rise more than the
 //! tolerance above the largest sampled value.
 
-use glam::{DVec2, Vec3};
-use phosphor_lighting::{ShadeTerms, lobe_sharpness, shade_split, specular_upper_bound};
+use glam::{DVec2, DVec3, Vec3};
+use phosphor_lighting::{Lanes, ShadeTerms, Vec3s, shade_split, specular_lobe};
 
-use super::phong::Phong;
-use super::taylor::{TaylorKernel, TaylorTri};
-use super::{Lit, Mode, Passes, TriInput, TriVertices, VertexIn, surface_attrs};
+use super::Lit;
+use super::check::{FAST_PHONG_TOLERANCE, highlight_is_sampled};
+use super::phong::{Phong, surface_varyings};
+use super::taylor::{MAX_TAYLOR_LIGHTS, TaylorTri};
 use crate::FastPhongMethod;
-use crate::clip::Attrs;
 use crate::framebuffer::clamp_color;
-use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::{RasterTri, ScreenPos, ScreenVertex, screen_area2};
-use phosphor_math::fixed::SUBPIXEL_ONE;
-
-/// Largest error (per channel, on the `[0, 1]` intensity) the fit may show at the check
-/// points before the triangle falls back to `phong`: one 8-bit code.
-pub const FAST_PHONG_TOLERANCE: f32 = 1.0 / 255.0;
-
-/// Lobes up to this [`phosphor_lighting::lobe_sharpness`] (`n_s` times the squared
-/// angular extent of the triangle) are at least as wide as the triangle: they vary smoothly
-/// across the ten samples, whose checks see any misfit. Sharper ones are checked against the
-/// bound.
-pub const MAX_SMOOTH_LOBE_SHARPNESS: f32 = 1.0;
+use crate::shader::{
+    Face, MAX_QUADRATICS, Pixels, Quadratic, ScreenCorner, ScreenTriangle, Shader, Stepped,
+    Varyings, VertexLanes,
+};
 
 /// Triangles covering less screen area than this (in pixels) are shaded per pixel with `phong`
 /// without trying a fit: the fit evaluates the exact model at ten points plus its bound checks
@@ -47,31 +38,6 @@ pub const MAX_SMOOTH_LOBE_SHARPNESS: f32 = 1.0;
 /// M, the default scene at 1280x720 488 M at 32 and 463 M at 128. Exact Phong is the more
 /// accurate of the two, so this only trades speed, and it is not counted as a fallback.
 pub const MIN_FIT_AREA_PX: f64 = 128.0;
-
-/// Whether a triangle's specular highlight cannot peak between the points a method checked:
-/// its lobes are smooth over the triangle, or their upper bound stays within
-/// [`FAST_PHONG_TOLERANCE`] of `seen`, the largest specular the checks saw. `nodes` are the
-/// surface points and normals at the corners (0, 1, 2) and at the midpoints of edges 01, 12,
-/// 20 (3, 4, 5). The bound is loose on a large triangle, so where it fails it is retried on
-/// the four half-size triangles of the nodes (spreads halve).
-pub(crate) fn highlight_is_sampled<const FX: u32>(
-    lit: &Lit,
-    nodes: &[(Vec3, Vec3); 6],
-    seen: Vec3,
-) -> bool {
-    let (set, mat, eye) = (lit.set, &lit.mat, lit.eye);
-    let fits = |corners: [usize; 3]| {
-        let p = corners.map(|i| nodes[i].0);
-        let n = corners.map(|i| nodes[i].1);
-        lobe_sharpness::<FX>(set, mat, p, n, eye) <= MAX_SMOOTH_LOBE_SHARPNESS
-            || (specular_upper_bound::<FX>(set, mat, p, n, eye) - seen).max_element()
-                <= FAST_PHONG_TOLERANCE
-    };
-    fits([0, 1, 2])
-        || [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]]
-            .into_iter()
-            .all(fits)
-}
 
 /// The fast Phong mode for effect set `FX`.
 #[derive(Debug, Clone, Copy)]
@@ -85,17 +51,17 @@ pub struct FastPhong<'a, const FX: u32> {
 /// A quadratic in the screen barycentrics: values at the vertices and the edge midpoints
 /// (the P2 Lagrange form), one per term.
 #[derive(Debug, Clone, Copy)]
-pub struct Quadratic {
+struct Lagrange {
     /// Values at vertices 0, 1, 2.
     vertex: [Vec3; 3],
     /// Values at the midpoints of edges 01, 12, 20.
     mid: [Vec3; 3],
 }
 
-impl Quadratic {
+impl Lagrange {
     #[inline]
     fn eval(&self, l: [f64; 3]) -> Vec3 {
-        let mut acc = glam::DVec3::ZERO;
+        let mut acc = DVec3::ZERO;
         for i in 0..3 {
             acc += self.vertex[i].as_dvec3() * (l[i] * (2.0 * l[i] - 1.0));
         }
@@ -104,132 +70,130 @@ impl Quadratic {
         acc += self.mid[2].as_dvec3() * (4.0 * l[2] * l[0]);
         acc.as_vec3()
     }
+
+    /// Channel `ch` as a quadratic in pixels about the origin of the affine barycentrics
+    /// `bary` (`l_i = c + gx u + gy v`).
+    fn quadratic(&self, bary: &[[f64; 3]; 3], ch: usize) -> Quadratic {
+        // The product of two affine functions, as a quadratic.
+        let mul = |a: &[f64; 3], b: &[f64; 3]| {
+            [
+                a[0] * b[0],
+                a[0] * b[1] + a[1] * b[0],
+                a[0] * b[2] + a[2] * b[0],
+                a[1] * b[1],
+                a[1] * b[2] + a[2] * b[1],
+                a[2] * b[2],
+            ]
+        };
+        let mut q = [0.0; 6];
+        let mut add = |k: f64, t: [f64; 6]| {
+            for (q, t) in q.iter_mut().zip(t) {
+                *q += k * t;
+            }
+        };
+        let [vx, mx] = [self.vertex, self.mid].map(|v| v.map(|v| f64::from(v[ch])));
+        for i in 0..3 {
+            // l (2 l - 1) = 2 l^2 - l.
+            let l = bary[i];
+            let mut t = mul(&l, &l).map(|c| 2.0 * c);
+            t[0] -= l[0];
+            t[1] -= l[1];
+            t[2] -= l[2];
+            add(vx[i], t);
+        }
+        for (m, (i, j)) in [(0, 1), (1, 2), (2, 0)].into_iter().enumerate() {
+            add(4.0 * mx[m], mul(&bary[i], &bary[j]));
+        }
+        Quadratic(q)
+    }
 }
 
 /// A fitted triangle: constant ambient, diffuse and specular quadratics, and the affine
-/// screen barycentrics `l_i = c_i + gx_i x + gy_i y`.
+/// screen barycentrics `l_i = c_i + gx_i x + gy_i y` (about the pixel origin).
 #[derive(Debug, Clone, Copy)]
-pub struct PolyTri {
+struct Fit {
     ambient: Vec3,
-    diffuse: Quadratic,
-    specular: Quadratic,
+    diffuse: Lagrange,
+    specular: Lagrange,
     bary: [[f64; 3]; 3],
 }
 
-impl PolyTri {
-    fn bary_at(&self, x: f64, y: f64) -> [f64; 3] {
-        self.bary.map(|[c, gx, gy]| c + gx * x + gy * y)
-    }
-
+impl Fit {
     fn total(&self, l: [f64; 3]) -> Vec3 {
         self.ambient + self.diffuse.eval(l).max(Vec3::ZERO) + self.specular.eval(l).max(Vec3::ZERO)
     }
-}
 
-/// Fast Phong's per-triangle choice. A fit is boxed: every accepted triangle gets one of these
-/// (72k per S1 frame, most of them too small to fit), and an inline fit made each 240 bytes,
-/// 17 MB a frame to write and read back; a box is allocated only for a triangle of at least
-/// [`MIN_FIT_AREA_PX`] whose fit holds, and each such triangle has as many pixels to pay for it.
-#[derive(Debug, Clone)]
-pub enum FastTri {
-    /// The polynomial fits: forward differences.
-    Poly(Box<PolyTri>),
-    /// The Taylor expansion holds: forward differences.
-    Taylor(Box<TaylorTri>),
-    /// It does not: exact per-pixel Phong for this triangle.
-    Phong,
-    /// Too small to be worth a fit ([`MIN_FIT_AREA_PX`]): exact per-pixel Phong.
-    Small,
-}
-
-/// Forward-difference state of one span: value, first and second difference per polynomial.
-#[derive(Debug, Clone, Copy)]
-pub struct FastSpan {
-    ambient: Vec3,
-    d: [Vec3; 3],
-    s: [Vec3; 3],
-}
-
-/// The per-pixel kernel of a fitted triangle.
-#[derive(Debug, Clone, Copy)]
-pub struct PolyKernel;
-
-impl Kernel for PolyKernel {
-    const ATTRS: usize = 0;
-    type Tri = PolyTri;
-    type Span = FastSpan;
-    fn span(&self, t: &PolyTri, x: f32, y: f32) -> FastSpan {
-        let (x, y) = (x as f64, y as f64);
-        let l = [
-            t.bary_at(x, y),
-            t.bary_at(x + 1.0, y),
-            t.bary_at(x + 2.0, y),
-        ];
-        let diffs = |q: &Quadratic| {
-            let (a, b, c) = (q.eval(l[0]), q.eval(l[1]), q.eval(l[2]));
-            [a, b - a, c - 2.0 * b + a]
-        };
-        FastSpan {
-            ambient: t.ambient,
-            d: diffs(&t.diffuse),
-            s: diffs(&t.specular),
+    /// The stepped form: diffuse in quadratics 0..3, specular in 3..6, about the origin.
+    fn stepped(&self) -> Stepped<FastTri> {
+        let mut s = Stepped::constant(FastTri::Fit {
+            ambient: self.ambient,
+        });
+        for ch in 0..3 {
+            s.quadratics[ch] = self.diffuse.quadratic(&self.bary, ch);
+            s.quadratics[3 + ch] = self.specular.quadratic(&self.bary, ch);
         }
-    }
-    #[inline]
-    fn shade(&self, _: &PolyTri, s: &FastSpan, _: &Attrs, _: u32, _: u32) -> Vec3 {
-        // Each term clamped on its own: a specular lobe's polynomial may dip below zero.
-        s.ambient + s.d[0].max(Vec3::ZERO) + s.s[0].max(Vec3::ZERO)
-    }
-    #[inline]
-    fn step(s: &mut FastSpan) {
-        s.d[0] += s.d[1];
-        s.d[1] += s.d[2];
-        s.s[0] += s.s[1];
-        s.s[1] += s.s[2];
+        s.count = 6;
+        s
     }
 }
 
-/// The screen triangle a fit is made on: vertices sorted top to bottom (by `y`, then `x`), so
+/// A stepped fast-Phong triangle: which method made its quadratics, and its constants.
+#[derive(Debug, Clone, Copy)]
+pub enum FastTri {
+    /// The six-point fit: `ambient + max(diffuse, 0) + max(specular, 0)`, diffuse in
+    /// quadratics 0..3 and specular in 3..6.
+    Fit {
+        /// `emission + ka Ia`.
+        ambient: Vec3,
+    },
+    /// Bishop and Weimer's expansion ([`TaylorTri`]): `ambient + max(diffuse, 0) + sum
+    /// specular_j lobe(cosine_j)`, diffuse in quadratics 0..3 and each light's cosine after.
+    Taylor {
+        /// `emission + ka Ia`.
+        ambient: Vec3,
+        /// Per light, `ks W Il_spec f(d)`.
+        specular: [Vec3; MAX_TAYLOR_LIGHTS],
+        /// Lights with a cosine quadratic.
+        lights: usize,
+        /// The material's `n_s`.
+        shininess: f32,
+    },
+}
+
+/// The screen triangle a fit is made on: corners sorted top to bottom (by `y`, then `x`), so
 /// that the fit does not depend on the mesh's vertex order.
-struct FitTri {
-    v: [ScreenVertex; 3],
-    perspective: bool,
+pub(crate) struct FitTri {
+    pub v: [ScreenCorner; 3],
+    pub perspective: bool,
 }
 
 impl FitTri {
-    fn new(screen: [&ScreenVertex; 3], perspective: bool) -> FitTri {
+    pub(crate) fn new(t: &ScreenTriangle) -> FitTri {
         let mut order = [0, 1, 2];
-        order.sort_by_key(|&i| (screen[i].fy, screen[i].fx));
+        order.sort_by(|&a, &b| {
+            let (p, q) = (&t.corners[a], &t.corners[b]);
+            p.y.total_cmp(&q.y).then(p.x.total_cmp(&q.x))
+        });
         FitTri {
-            v: order.map(|i| *screen[i]),
-            perspective,
+            v: order.map(|i| t.corners[i]),
+            perspective: t.perspective,
         }
     }
 }
 
 impl<const FX: u32> FastPhong<'_, FX> {
     /// Perspective-correct surface point and (unnormalized) normal at screen barycentrics `l`.
-    fn surface(geom: &FitTri, l: [f64; 3]) -> (Vec3, Vec3) {
-        let q: [f64; 3] = std::array::from_fn(|i| {
-            if geom.perspective {
-                l[i] * geom.v[i].inv_w
-            } else {
-                l[i]
-            }
-        });
-        let s = q[0] + q[1] + q[2];
-        let w = if s.abs() > 1e-300 {
-            q.map(|x| x / s)
-        } else {
-            l
+    pub(crate) fn surface(geom: &FitTri, l: [f64; 3]) -> (Vec3, Vec3) {
+        let t = ScreenTriangle {
+            corners: geom.v,
+            perspective: geom.perspective,
         };
-        let mut p = glam::DVec3::ZERO;
-        let mut n = glam::DVec3::ZERO;
+        let w = t.weights(l);
+        let (mut p, mut n) = (DVec3::ZERO, DVec3::ZERO);
         for (i, v) in geom.v.iter().enumerate() {
-            // Stored attributes are divided by w when perspective-correct: undo.
-            let scale = w[i] * if geom.perspective { 1.0 / v.inv_w } else { 1.0 };
-            p += glam::DVec3::new(v.attrs[0] as f64, v.attrs[1] as f64, v.attrs[2] as f64) * scale;
-            n += glam::DVec3::new(v.attrs[3] as f64, v.attrs[4] as f64, v.attrs[5] as f64) * scale;
+            let a = &v.varyings;
+            p += DVec3::new(a[0], a[1], a[2]) * w[i];
+            n += DVec3::new(a[3], a[4], a[5]) * w[i];
         }
         (p.as_vec3(), n.as_vec3())
     }
@@ -246,7 +210,7 @@ impl<const FX: u32> FastPhong<'_, FX> {
     }
 
     /// Fits the quadratics, or `None` when the check points show more than the tolerance.
-    fn fit(&self, geom: &FitTri) -> Option<PolyTri> {
+    fn fit(&self, geom: &FitTri) -> Option<Stepped<FastTri>> {
         let third = 1.0 / 3.0;
         let nodes = [
             [1.0, 0.0, 0.0],
@@ -258,12 +222,14 @@ impl<const FX: u32> FastPhong<'_, FX> {
         ];
         let surface = nodes.map(|l| Self::surface(geom, l));
         let t = surface.map(|(p, n)| self.shade(p, n));
-        let quad = |f: fn(&ShadeTerms) -> Vec3| Quadratic {
+        let quad = |f: fn(&ShadeTerms) -> Vec3| Lagrange {
             vertex: [f(&t[0]), f(&t[1]), f(&t[2])],
             mid: [f(&t[3]), f(&t[4]), f(&t[5])],
         };
         let ambient = t[0].ambient;
-        let [a, b, c] = geom.v.map(|v| DVec2::new(v.x, v.y));
+        // Barycentrics about the first corner: the quadratics' coefficients stay small.
+        let origin = DVec2::new(geom.v[0].x, geom.v[0].y);
+        let [a, b, c] = geom.v.map(|v| DVec2::new(v.x, v.y) - origin);
         let area = (b - a).perp_dot(c - a);
         if area == 0.0 || !area.is_finite() {
             return None;
@@ -273,7 +239,7 @@ impl<const FX: u32> FastPhong<'_, FX> {
             // area2(x, p, q) = (p - x) x (q - x) = p x q - x (q.y - p.y) + y (q.x - p.x)
             [p.perp_dot(q) / area, (p.y - q.y) / area, (q.x - p.x) / area]
         };
-        let poly = PolyTri {
+        let fit = Fit {
             ambient,
             diffuse: quad(|t| t.diffuse),
             specular: quad(|t| t.specular),
@@ -288,7 +254,7 @@ impl<const FX: u32> FastPhong<'_, FX> {
         let mut seen = t.iter().fold(Vec3::ZERO, |m, t| m.max(t.specular));
         for l in checks {
             let exact = self.exact(geom, l);
-            let err = (clamp_color(poly.total(l)) - clamp_color(exact.total())).abs();
+            let err = (clamp_color(fit.total(l)) - clamp_color(exact.total())).abs();
             let worst = err.max_element();
             if worst.is_nan() || worst > FAST_PHONG_TOLERANCE {
                 return None;
@@ -299,7 +265,12 @@ impl<const FX: u32> FastPhong<'_, FX> {
         // fit shows nothing: refuse when such a lobe (sharpness above the limit) could rise
         // above what the samples saw. The bound is loose on a large triangle, so where it
         // fails it is retried on the four half-size triangles of the nodes (spreads halve).
-        highlight_is_sampled::<FX>(&self.lit, &surface, seen).then_some(poly)
+        if !highlight_is_sampled::<FX>(&self.lit, &surface, seen) {
+            return None;
+        }
+        let mut s = fit.stepped();
+        s.origin = (origin.x, origin.y);
+        Some(s)
     }
 
     fn phong(&self) -> Phong<'_, FX, false> {
@@ -310,72 +281,104 @@ impl<const FX: u32> FastPhong<'_, FX> {
     }
 }
 
-impl<const FX: u32> Mode for FastPhong<'_, FX> {
-    const ATTRS: usize = 6;
-    type Tri = FastTri;
-    const PASSES: Passes = Passes::ByPixel;
-    fn vertex(&self, v: &VertexIn) -> Attrs {
-        surface_attrs(v)
+impl<const FX: u32> Shader for FastPhong<'_, FX> {
+    const VARYINGS: usize = 6;
+    const FACE: Face = Face::Stepped;
+    type Stepped = FastTri;
+    #[inline(always)]
+    fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L> {
+        surface_varyings(v, false)
     }
-    // With the fit only triangles of MIN_FIT_AREA_PX or more get here: a few hundred on S1.
-    const INPUT: TriInput = TriInput::ScreenPerTriangle;
     #[inline]
-    fn triangle_from_positions(&self, p: &[ScreenPos; 3]) -> Option<FastTri> {
-        if self.method == FastPhongMethod::Taylor {
+    fn min_stepped_area(&self) -> f64 {
+        match self.method {
+            // The fit is tried only on triangles large enough to pay for it.
+            FastPhongMethod::Fit => MIN_FIT_AREA_PX,
             // The Taylor set-up is tried on every triangle.
-            return None;
+            FastPhongMethod::Taylor => 0.0,
         }
-        // The area first: most triangles of a dense mesh stop here, before their vertices
-        // are fetched. Twice the area in 1/256 pixel units, exact in integers.
-        let area2 = screen_area2(p).unsigned_abs() as f64;
-        (area2 * 0.5 < MIN_FIT_AREA_PX * (SUBPIXEL_ONE * SUBPIXEL_ONE) as f64)
-            .then_some(FastTri::Small)
     }
-    fn triangle(&self, v: TriVertices<'_>, perspective: bool) -> FastTri {
-        // The renderer hands the screen vertices (INPUT); without them, shade exactly.
-        let TriVertices::Screen(screen) = v else {
-            return FastTri::Phong;
-        };
-        if self.method == FastPhongMethod::Taylor {
-            let geom = FitTri::new(screen, perspective);
-            return match super::taylor::build::<FX>(&self.lit, &geom.v, |l| Self::surface(&geom, l))
-            {
-                Some(t) => FastTri::Taylor(Box::new(t)),
-                None => FastTri::Phong,
-            };
-        }
-        // The same test as `triangle_from_positions`, for clipped triangles.
-        let [a, b, c] = screen.map(|v| DVec2::new(v.x, v.y));
-        if (b - a).perp_dot(c - a).abs() * 0.5 < MIN_FIT_AREA_PX {
-            return FastTri::Small;
-        }
+    fn stepped(&self, t: &ScreenTriangle) -> Option<Stepped<FastTri>> {
         // Sorted corners: the fit is the same whatever the mesh's vertex order.
-        match self.fit(&FitTri::new(screen, perspective)) {
-            Some(p) => FastTri::Poly(Box::new(p)),
-            None => FastTri::Phong,
+        let geom = FitTri::new(t);
+        match self.method {
+            FastPhongMethod::Taylor => {
+                super::taylor::build::<FX>(&self.lit, (&geom.v, geom.perspective), |l| {
+                    Self::surface(&geom, l)
+                })
+                .map(taylor_stepped)
+            }
+            FastPhongMethod::Fit => self.fit(&geom),
         }
     }
-    fn draw(&self, t: &RasterTri, tri: &FastTri, target: &mut BandTarget) -> u64 {
+    /// Triangles shaded exactly (too small to fit, or refused): `phong`.
+    #[inline(always)]
+    fn pixel<L: Lanes>(&self, v: &Varyings<L>) -> Vec3s<L> {
+        self.phong().pixel(v)
+    }
+    #[inline(always)]
+    fn stepped_pixel<L: Lanes>(
+        &self,
+        tri: &FastTri,
+        q: &[L; MAX_QUADRATICS],
+        _: &Varyings<L>,
+        _: &Pixels<L>,
+    ) -> Vec3s<L> {
+        let zero = q[0].splat(0.0);
+        let positive = |x: L| x.max_c(zero);
         match tri {
-            FastTri::Poly(p) => traverse(t, &PolyKernel, &**p, target),
-            FastTri::Taylor(p) => traverse(t, &TaylorKernel, &**p, target),
-            FastTri::Phong | FastTri::Small => traverse(t, &self.phong(), &(), target),
+            FastTri::Fit { ambient } => {
+                // Each term clamped on its own: a specular lobe's polynomial may dip below 0.
+                let d = Vec3s::new(positive(q[0]), positive(q[1]), positive(q[2]));
+                let s = Vec3s::new(positive(q[3]), positive(q[4]), positive(q[5]));
+                Vec3s::broadcast(zero, *ambient) + d + s
+            }
+            FastTri::Taylor {
+                ambient,
+                specular,
+                lights,
+                shininess,
+            } => {
+                let d = Vec3s::new(positive(q[0]), positive(q[1]), positive(q[2]));
+                let mut c = Vec3s::broadcast(zero, *ambient) + d;
+                for (j, s) in specular.iter().enumerate().take(*lights) {
+                    let cos = q[3 + j].to_lanes();
+                    let lobe = zero.with_lanes(cos.map(|x| specular_lobe(x, *shininess)));
+                    c = c + Vec3s::broadcast(zero, *s) * lobe;
+                }
+                c
+            }
         }
     }
-    fn finish(&self, target: &mut BandTarget) {
-        target.pending.flush(&self.phong(), &(), target.color);
+}
+
+/// A Taylor triangle in stepped form: the diffuse channels in quadratics 0..3, each light's
+/// cosine after.
+fn taylor_stepped(t: TaylorTri) -> Stepped<FastTri> {
+    let mut s = Stepped::constant(FastTri::Taylor {
+        ambient: t.ambient,
+        specular: t.specular,
+        lights: t.lights,
+        shininess: t.shininess,
+    });
+    s.origin = t.origin;
+    for (ch, q) in t.diffuse.iter().enumerate() {
+        s.quadratics[ch] = Quadratic(*q);
     }
-    // Triangles shaded exactly (too small to fit, or refused) take phong's by-pixel pass
-    // (PASSES); only fitted ones are traversed again, to step their polynomials along the
-    // spans.
-    #[inline]
-    fn shade4(&self, attrs: &[Attrs; 4], count: usize) -> [Vec3; 4] {
-        self.phong().shade4(attrs, count)
+    for j in 0..t.lights {
+        s.quadratics[3 + j] = Quadratic(t.cosine[j]);
     }
-    fn by_pixel(tri: &FastTri) -> bool {
-        !matches!(tri, FastTri::Poly(_) | FastTri::Taylor(_))
+    s.count = 3 + t.lights;
+    s
+}
+
+/// Draws `d` with fast Phong shading into `frame`, specialized for its effects; a bumped
+/// draw is drawn with `phong` (the quadratics cannot follow a height field).
+pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
+    if d.bump.is_some() {
+        return super::phong::draw(frame, d);
     }
-    fn is_fallback(tri: &FastTri) -> bool {
-        matches!(tri, FastTri::Phong)
-    }
+    let lit = Lit::new(d.lights, d.material, d.effects, frame.eye());
+    let method = frame.options().fast_phong;
+    crate::with_fx!(d.effects, FX => frame.draw(&d.mesh, d.model, &FastPhong::<FX> { lit, method }, d.cull_backfaces));
 }

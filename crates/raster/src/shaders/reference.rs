@@ -4,13 +4,14 @@
 //! fill rule as every other mode; the draw's effect set does not apply (the model is exact).
 
 use glam::{DVec2, DVec3, Vec2, Vec3, Vec4};
-use phosphor_lighting::{LightSet, Material, shade_reference};
+use phosphor_lighting::{Lanes, LightSet, Material, Vec3s, shade_reference};
 
-use super::{Mode, Passes, TriInput, TriVertices, VertexIn, surface_attrs};
+use super::phong::surface_varyings;
 use crate::bump::BumpMap;
-use crate::clip::{Attrs, MAX_ATTRS};
-use crate::scanline::{BandTarget, Kernel, traverse};
-use crate::setup::RasterTri;
+use crate::shader::{
+    Face, MAX_QUADRATICS, MAX_VARYINGS, Pixels, ScreenTriangle, Shader, Stepped, Varyings,
+    VertexLanes,
+};
 
 /// The reference mode.
 #[derive(Debug, Clone, Copy)]
@@ -25,23 +26,18 @@ pub struct Reference<'a> {
     pub bump: Option<&'a BumpMap>,
 }
 
-/// Per-triangle data: screen positions, true `1/w`, and the undivided attributes.
+/// Per-triangle data: screen positions, true `1/w`, and the varyings (not divided by `w`).
 #[derive(Debug, Clone, Copy)]
 pub struct RefTri {
     screen: [DVec2; 3],
     rhw: [f64; 3],
-    attrs: [[f64; MAX_ATTRS]; 3],
+    attrs: [[f64; MAX_VARYINGS]; 3],
     inv_area: f64,
 }
 
-impl Kernel for Reference<'_> {
-    const ATTRS: usize = 0;
-    type Tri = RefTri;
-    type Span = ();
-    #[inline]
-    fn span(&self, _: &RefTri, _: f32, _: f32) {}
-    fn shade(&self, t: &RefTri, _: &(), _: &Attrs, px: u32, py: u32) -> Vec3 {
-        let p = DVec2::new(px as f64 + 0.5, py as f64 + 0.5);
+impl Reference<'_> {
+    /// The exact colour at pixel centre `p` of triangle `t`.
+    fn at(&self, t: &RefTri, p: DVec2) -> Vec3 {
         let [a, b, c] = t.screen;
         let cross = |u: DVec2, v: DVec2| u.x * v.y - u.y * v.x;
         // Screen-space barycentrics, then perspective-correct ones: b_i/w_i normalized.
@@ -55,10 +51,9 @@ impl Kernel for Reference<'_> {
         } else {
             [l0, l1, l2]
         };
-        let mut v = [0.0f64; MAX_ATTRS];
-        for (k, slot) in v.iter_mut().enumerate() {
-            *slot = wts[0] * t.attrs[0][k] + wts[1] * t.attrs[1][k] + wts[2] * t.attrs[2][k];
-        }
+        let v: [f64; 12] = std::array::from_fn(|k| {
+            wts[0] * t.attrs[0][k] + wts[1] * t.attrs[1][k] + wts[2] * t.attrs[2][k]
+        });
         let point = DVec3::new(v[0], v[1], v[2]);
         let mut normal = DVec3::new(v[3], v[4], v[5]);
         if let Some(map) = self.bump {
@@ -68,40 +63,69 @@ impl Kernel for Reference<'_> {
         }
         shade_reference(self.set, &self.mat, point, normal, self.eye).as_vec3()
     }
-    #[inline]
-    fn step(_: &mut ()) {}
 }
 
-impl Mode for Reference<'_> {
-    const ATTRS: usize = 12;
-    type Tri = Option<RefTri>;
-    const PASSES: Passes = Passes::DepthFirst;
-    const INPUT: TriInput = TriInput::Screen;
-    fn vertex(&self, v: &VertexIn) -> Attrs {
-        surface_attrs(v)
+impl Shader for Reference<'_> {
+    const VARYINGS: usize = 12;
+    const FACE: Face = Face::Stepped;
+    type Stepped = RefTri;
+    #[inline(always)]
+    fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L> {
+        surface_varyings(v, true)
     }
-    fn triangle(&self, v: TriVertices<'_>, perspective: bool) -> Option<RefTri> {
-        // The renderer hands the screen vertices (INPUT); without them nothing is drawn.
-        let TriVertices::Screen(v) = v else {
-            return None;
-        };
-        let screen = v.map(|s| DVec2::new(s.x, s.y));
-        let rhw = v.map(|s| s.rhw);
-        let attrs = v.map(|s| {
-            // Undo the traversal's division by w (when perspective-correct).
-            let scale = if perspective { 1.0 / s.rhw } else { 1.0 };
-            s.attrs.map(|a| a as f64 * scale)
-        });
+    fn stepped(&self, t: &ScreenTriangle) -> Option<Stepped<RefTri>> {
+        let screen = t.corners.map(|c| DVec2::new(c.x, c.y));
         let [a, b, c] = screen;
         let area = (b - a).perp_dot(c - a);
-        Some(RefTri {
+        Some(Stepped::constant(RefTri {
             screen,
-            rhw,
-            attrs,
+            // Always perspective-correct: the true surface point, whatever the frame
+            // interpolates.
+            rhw: t.corners.map(|c| c.rhw),
+            attrs: t.corners.map(|c| c.varyings),
             inv_area: if area != 0.0 { 1.0 / area } else { 0.0 },
-        })
+        }))
     }
-    fn draw(&self, t: &RasterTri, tri: &Option<RefTri>, target: &mut BandTarget) -> u64 {
-        tri.as_ref().map_or(0, |tri| traverse(t, self, tri, target))
+    #[inline(always)]
+    fn pixel<L: Lanes>(&self, v: &Varyings<L>) -> Vec3s<L> {
+        // Every triangle is stepped.
+        Vec3s::broadcast(v[0], Vec3::ZERO)
     }
+    #[inline(always)]
+    fn stepped_pixel<L: Lanes>(
+        &self,
+        t: &RefTri,
+        _: &[L; MAX_QUADRATICS],
+        _: &Varyings<L>,
+        at: &Pixels<L>,
+    ) -> Vec3s<L> {
+        let (x, y) = (at.x.to_lanes(), at.y.to_lanes());
+        let c: [Vec3; 8] = std::array::from_fn(|i| {
+            if i < L::N {
+                self.at(t, DVec2::new(f64::from(x[i]), f64::from(y[i])))
+            } else {
+                Vec3::ZERO
+            }
+        });
+        Vec3s::from_vecs(at.x, c)
+    }
+}
+
+/// Draws `d` exactly into `frame`: every term the draw's effects keep, in f64.
+pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
+    use phosphor_lighting::Effects;
+    let mut mat = super::effective_material(d.material, d.effects);
+    if !d.effects.contains(Effects::SPECULAR) {
+        mat.ks = Vec3::ZERO;
+    }
+    if !d.effects.contains(Effects::FRESNEL) {
+        mat.fresnel = phosphor_lighting::Fresnel::None;
+    }
+    let shader = Reference {
+        set: d.lights,
+        mat,
+        eye: frame.eye().as_dvec3(),
+        bump: d.bump,
+    };
+    frame.draw(&d.mesh, d.model, &shader, d.cull_backfaces);
 }

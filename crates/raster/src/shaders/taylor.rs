@@ -34,12 +34,10 @@ use phosphor_lighting::{
     Effects, Material, PreparedPoint, SpecularModel, shade_split, specular_lobe,
 };
 
-use crate::clip::Attrs;
+use super::Lit;
+use super::check::{FAST_PHONG_TOLERANCE, highlight_is_sampled};
 use crate::framebuffer::clamp_color;
-use crate::scanline::Kernel;
-use crate::setup::ScreenVertex;
-use crate::shade::Lit;
-use crate::shade::fast_phong::{FAST_PHONG_TOLERANCE, highlight_is_sampled};
+use crate::shader::ScreenCorner;
 
 /// The most lights with a specular polynomial of their own on one triangle; a triangle lit by
 /// more falls back to `phong` (each light costs one power per pixel, and the triangle data
@@ -95,18 +93,6 @@ pub fn eval(q: &Quad, x: f64, y: f64) -> f64 {
     q[0] + x * (q[1] + q[3] * x + q[4] * y) + y * (q[2] + q[5] * y)
 }
 
-/// Forward-difference state of `q` along `+x` from local `(x, y)`: value, first and second
-/// difference.
-#[inline]
-#[must_use]
-pub fn differences(q: &Quad, x: f64, y: f64) -> [f64; 3] {
-    [
-        eval(q, x, y),
-        q[1] + q[3] * (2.0 * x + 1.0) + q[4] * y,
-        2.0 * q[3],
-    ]
-}
-
 /// A triangle whose shading is the Taylor quadratics.
 #[derive(Debug, Clone, Copy)]
 pub struct TaylorTri {
@@ -138,68 +124,6 @@ impl TaylorTri {
                 * specular_lobe(eval(&self.cosine[j], u, v) as f32, self.shininess);
         }
         c
-    }
-}
-
-/// Forward-difference state of one span: per polynomial, value, first and second difference.
-#[derive(Debug, Clone, Copy)]
-pub struct TaylorSpan {
-    diffuse: [[f64; 3]; 3],
-    cosine: [[f64; 3]; MAX_TAYLOR_LIGHTS],
-}
-
-#[cfg(test)]
-impl TaylorSpan {
-    /// The diffuse polynomials' current values.
-    #[must_use]
-    pub fn diffuse(&self) -> [f64; 3] {
-        self.diffuse.map(|d| d[0])
-    }
-    /// The specular cosine polynomials' current values.
-    #[must_use]
-    pub fn cosine(&self) -> [f64; MAX_TAYLOR_LIGHTS] {
-        self.cosine.map(|d| d[0])
-    }
-}
-
-/// The per-pixel kernel of a Taylor triangle.
-#[derive(Debug, Clone, Copy)]
-pub struct TaylorKernel;
-
-impl Kernel for TaylorKernel {
-    const ATTRS: usize = 0;
-    type Tri = TaylorTri;
-    type Span = TaylorSpan;
-    fn span(&self, t: &TaylorTri, x: f32, y: f32) -> TaylorSpan {
-        let (u, v) = (x as f64 - t.origin.0, y as f64 - t.origin.1);
-        let mut cosine = [[0.0; 3]; MAX_TAYLOR_LIGHTS];
-        for j in 0..t.lights {
-            cosine[j] = differences(&t.cosine[j], u, v);
-        }
-        TaylorSpan {
-            diffuse: t.diffuse.map(|q| differences(&q, u, v)),
-            cosine,
-        }
-    }
-    #[inline]
-    fn shade(&self, t: &TaylorTri, s: &TaylorSpan, _: &Attrs, _: u32, _: u32) -> Vec3 {
-        let d = Vec3::new(
-            s.diffuse[0][0].max(0.0) as f32,
-            s.diffuse[1][0].max(0.0) as f32,
-            s.diffuse[2][0].max(0.0) as f32,
-        );
-        let mut c = t.ambient + d;
-        for j in 0..t.lights {
-            c += t.specular[j] * specular_lobe(s.cosine[j][0] as f32, t.shininess);
-        }
-        c
-    }
-    #[inline]
-    fn step(s: &mut TaylorSpan) {
-        for d in s.diffuse.iter_mut().chain(s.cosine.iter_mut()) {
-            d[0] += d[1];
-            d[1] += d[2];
-        }
     }
 }
 
@@ -289,7 +213,7 @@ fn frozen_lights<const FX: u32>(lit: &Lit, p: Vec3, n: Vec3) -> Vec<FrozenLight>
 /// `surface` the perspective-correct point and normal there.
 pub(crate) fn build<const FX: u32>(
     lit: &Lit,
-    v: &[ScreenVertex; 3],
+    (v, perspective): (&[ScreenCorner; 3], bool),
     surface: impl Fn([f64; 3]) -> (Vec3, Vec3),
 ) -> Option<TaylorTri> {
     let xy = v.map(|v| DVec2::new(v.x, v.y));
@@ -299,7 +223,11 @@ pub(crate) fn build<const FX: u32>(
     }
     let centroid = (xy[0] + xy[1] + xy[2]) / 3.0;
     // N(x, y) = A x + B y + C about the centroid, from the vertices' (N/w or N).
-    let nv = v.map(|v| DVec3::new(v.attrs[3] as f64, v.attrs[4] as f64, v.attrs[5] as f64));
+    // N/w is affine in screen space with perspective (and has N's direction).
+    let nv = v.map(|v| {
+        let a = &v.varyings;
+        DVec3::new(a[3], a[4], a[5]) * if perspective { v.rhw } else { 1.0 }
+    });
     let (d1, d2) = (xy[1] - xy[0], xy[2] - xy[0]);
     let (e1, e2) = (nv[1] - nv[0], nv[2] - nv[0]);
     let a_vec = (e1 * d2.y - e2 * d1.y) / area;
@@ -418,6 +346,7 @@ pub(crate) fn build<const FX: u32>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shader::Quadratic;
 
     /// The exact function the expansion approximates.
     fn exact(abc: [f64; 3], den: [f64; 6], x: f64, y: f64) -> f64 {
@@ -474,31 +403,24 @@ mod tests {
         let h = DVec3::new(0.2, 0.3, 1.0).normalize();
         let (habc, hden) = coefficients(h, a, b, c);
         let cosine = taylor2(habc, hden).unwrap();
-        let tri = TaylorTri {
-            origin: (2048.0, 600.0),
-            ambient: Vec3::splat(0.05),
-            diffuse: [q; 3],
-            cosine: [cosine; MAX_TAYLOR_LIGHTS],
-            specular: [Vec3::splat(0.3), Vec3::ZERO, Vec3::ZERO, Vec3::ZERO],
-            lights: 1,
-            shininess: 16.0,
-        };
-        let (x0, y) = (0.5f32, 123.5f32);
-        let mut span = TaylorKernel.span(&tri, x0, y);
+        let origin = (2048.0, 600.0);
+        let (x0, y) = (0.5, 123.5);
+        let (u0, v) = (x0 - origin.0, y - origin.1);
+        let (mut d, mut s) = (
+            Quadratic(q).differences(u0, v),
+            Quadratic(cosine).differences(u0, v),
+        );
         let mut worst = 0.0f64;
-        let mut worst_colour = 0.0f32;
         for k in 0..4096 {
-            let x = f64::from(x0) + f64::from(k);
-            let (u, v) = (x - tri.origin.0, f64::from(y) - tri.origin.1);
-            worst = worst.max((span.diffuse()[0] - eval(&q, u, v)).abs());
-            worst = worst.max((span.cosine()[0] - eval(&cosine, u, v)).abs());
-            let colour = TaylorKernel.shade(&tri, &span, &[0.0; crate::clip::MAX_ATTRS], 0, 0);
-            worst_colour =
-                worst_colour.max((colour - tri.total_at(x, f64::from(y))).abs().max_element());
-            TaylorKernel::step(&mut span);
+            let u = u0 + f64::from(k);
+            worst = worst.max((d[0] - eval(&q, u, v)).abs());
+            worst = worst.max((s[0] - eval(&cosine, u, v)).abs());
+            for f in [&mut d, &mut s] {
+                f[0] += f[1];
+                f[1] += f[2];
+            }
         }
         assert!(worst <= 1e-5, "forward differences drift {worst}");
-        assert!(worst_colour <= 1e-5, "colour drift {worst_colour}");
     }
 
     #[test]

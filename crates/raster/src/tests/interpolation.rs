@@ -4,19 +4,21 @@
 
 use glam::Vec3;
 
+use crate::bypixel::ByPixel;
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::scanline::{BandTarget, ByPixel, Kernel, Planes, depth_only, traverse};
+use crate::coverage::{BandTarget, depth_only};
+use crate::framebuffer::clamp_color;
 use crate::setup::{RasterTri, ScreenVertex};
+use crate::traverse::{Planes, SpanShade, traverse};
 
 struct Record;
 
-impl Kernel for Record {
+impl SpanShade for Record {
     const ATTRS: usize = 1;
-    type Tri = ();
     type Span = ();
-    fn span(&self, _: &(), _: f32, _: f32) {}
-    fn shade(&self, _: &(), _: &(), a: &Attrs, _: u32, _: u32) -> Vec3 {
-        Vec3::splat(a[0])
+    fn span(&self, _: f64, _: f64) {}
+    fn pixel(&mut self, _: &(), idx: usize, (a, w): (&Attrs, f32), _: (i64, i64), c: &mut [Vec3]) {
+        c[idx] = clamp_color(Vec3::splat(a[0] * w));
     }
     fn step(_: &mut ()) {}
 }
@@ -76,7 +78,7 @@ fn scanline_increments_reproduce_gouraud_closed_form_i4_i5_ip() {
         let mut color = vec![Vec3::splat(-1.0); (w * h) as usize];
         let mut depth = vec![1.0; (w * h) as usize];
         let mut target = BandTarget::new(&mut color, &mut depth, w, 0, false);
-        let n = traverse(&tri, &Record, &(), &mut target);
+        let n = traverse(&tri, &mut Record, &mut target);
         assert!(n > 100);
         let mut checked = 0;
         for y in 0..h {
@@ -184,7 +186,7 @@ fn attributes_a_triangle_was_not_set_up_with_read_as_zero() {
     let mut color = vec![Vec3::splat(-1.0); (w * h) as usize];
     let mut depth = vec![1.0; (w * h) as usize];
     let mut target = BandTarget::new(&mut color, &mut depth, w, 0, false);
-    let n = traverse(&tri, &Record, &(), &mut target);
+    let n = traverse(&tri, &mut Record, &mut target);
     assert!(n > 50);
     let drawn: Vec<f32> = color.iter().map(|c| c.x).filter(|&c| c >= 0.0).collect();
     assert_eq!(drawn.len() as u64, n);

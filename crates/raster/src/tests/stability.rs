@@ -8,20 +8,22 @@
 //! ```
 
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::scanline::{BandTarget, IncrementalTri, Kernel, traverse, traverse_incremental};
+use crate::coverage::BandTarget;
+use crate::framebuffer::clamp_color;
+use crate::incremental::{IncrementalTri, traverse_incremental};
 use crate::setup::{RasterTri, ScreenVertex};
+use crate::traverse::{SpanShade, traverse};
 use glam::Vec3;
 
 /// Writes the three interpolated attributes as the colour.
 struct Passthrough;
 
-impl Kernel for Passthrough {
+impl SpanShade for Passthrough {
     const ATTRS: usize = 3;
-    type Tri = ();
     type Span = ();
-    fn span(&self, _: &(), _: f32, _: f32) {}
-    fn shade(&self, _: &(), _: &(), a: &Attrs, _: u32, _: u32) -> Vec3 {
-        Vec3::new(a[0], a[1], a[2])
+    fn span(&self, _: f64, _: f64) {}
+    fn pixel(&mut self, _: &(), idx: usize, (a, w): (&Attrs, f32), _: (i64, i64), c: &mut [Vec3]) {
+        c[idx] = clamp_color(Vec3::new(a[0] * w, a[1] * w, a[2] * w));
     }
     fn step(_: &mut ()) {}
 }
@@ -64,9 +66,9 @@ fn measure(v: [ScreenVertex; 3], w: u32, h: u32) -> Drift {
         let (mut color, mut depth) = (vec![Vec3::splat(-1.0); n], vec![1.0f32; n]);
         let mut target = BandTarget::new(&mut color, &mut depth, w, 0, false);
         if incremental {
-            traverse_incremental(&t, &Passthrough, &(), &tri, &mut target);
+            traverse_incremental(&t, &mut Passthrough, &tri, &mut target);
         } else {
-            traverse(&t, &Passthrough, &(), &mut target);
+            traverse(&t, &mut Passthrough, &mut target);
         }
         (color, depth)
     };

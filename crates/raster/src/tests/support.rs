@@ -24,6 +24,7 @@ impl TestMesh {
             normals: &self.normals,
             uvs: (self.uvs.len() == self.positions.len()).then_some(&self.uvs[..]),
             tangents: (self.tangents.len() == self.positions.len()).then_some(&self.tangents[..]),
+            colors: None,
             indices: &self.indices,
         }
     }

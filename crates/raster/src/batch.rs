@@ -1,0 +1,184 @@
+//! Pixels batched into lanes for a shader's pixel stage: each pixel's interpolated attributes
+//! are queued one pixel after another ([`Pending`]), then transposed into lanes
+//! ([`shade_rows`]), one pixel per lane, and the colours written back. The lane width is the
+//! frame's SIMD level: four lanes, or eight inside an AVX2 function ([`Wide`]).
+
+use glam::Vec3;
+use phosphor_lighting::Lanes;
+
+use crate::clip::{Attrs, MAX_ATTRS};
+use crate::framebuffer::clamp_color;
+use crate::shader::{MAX_VARYINGS, Shader, Varyings};
+
+/// Pixels waiting to be shaded `N` at a time, each with where its colour goes: a pixel index
+/// of the band (`usize`), or a multisampled block's samples.
+#[derive(Debug, Clone)]
+pub(crate) struct Pending<T, const N: usize> {
+    idx: [T; N],
+    attrs: [Attrs; N],
+    len: usize,
+}
+
+impl<T: Copy + Default, const N: usize> Pending<T, N> {
+    /// No pixel waiting.
+    #[must_use]
+    pub fn new() -> Pending<T, N> {
+        Pending {
+            idx: [T::default(); N],
+            attrs: [[0.0; MAX_ATTRS]; N],
+            len: 0,
+        }
+    }
+
+    /// Queues `at` with the first `l` of `attrs` times `w` (the perspective divide); true when
+    /// the group holds `N`. `l` is a whole number of vector widths
+    /// ([`crate::coverage::lanes`]) known when this is inlined: a fixed width compiles to a few
+    /// vector multiplies where a loop to the shader's count did one lane at a time.
+    #[inline(always)]
+    pub fn queue(&mut self, at: T, (attrs, w, l): (&Attrs, f32, usize)) -> bool {
+        // `len < N` always; masked (N is a power of two) so that no bounds check is compiled.
+        let at_slot = if N.is_power_of_two() {
+            self.len & (N - 1)
+        } else {
+            self.len
+        };
+        let slot = &mut self.attrs[at_slot];
+        for k in 0..l {
+            slot[k] = attrs[k] * w;
+        }
+        self.idx[at_slot] = at;
+        self.len += 1;
+        self.len == N
+    }
+
+    /// Shades the waiting entries with `shade` (the colours of the first `count` of `N`
+    /// attribute sets; the others repeat the first) and hands each clamped colour to `write`.
+    #[inline(always)]
+    pub fn flush_into(
+        &mut self,
+        shade: impl FnOnce(&[Attrs; N], usize) -> [Vec3; N],
+        mut write: impl FnMut(T, Vec3),
+    ) {
+        if self.len == 0 {
+            return;
+        }
+        for k in self.len..N {
+            self.attrs[k] = self.attrs[0];
+        }
+        let c = shade(&self.attrs, self.len);
+        for k in 0..self.len {
+            debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
+            write(self.idx[k], clamp_color(c[k]));
+        }
+        self.len = 0;
+    }
+}
+
+impl<const N: usize> Pending<usize, N> {
+    /// Queues pixel `idx` of the band ([`Pending::queue`]), shading the group with `shade`
+    /// once it holds `N`.
+    #[inline(always)]
+    pub fn push(
+        &mut self,
+        idx: usize,
+        attrs: (&Attrs, f32, usize),
+        shade: impl FnOnce(&[Attrs; N], usize) -> [Vec3; N],
+        color: &mut [Vec3],
+    ) {
+        if self.queue(idx, attrs) {
+            self.flush_with(shade, color);
+        }
+    }
+
+    /// Shades the waiting pixels with `shade` and writes their colours.
+    #[inline(always)]
+    pub fn flush_with(
+        &mut self,
+        shade: impl FnOnce(&[Attrs; N], usize) -> [Vec3; N],
+        color: &mut [Vec3],
+    ) {
+        self.flush_into(shade, |i, c| color[i] = c);
+    }
+}
+
+/// The rows of `N` pixels' attributes as one-pixel-per-lane varyings of the kind of `like`
+/// (`L::N == N`): one transpose per eight attributes the shader reads.
+#[inline(always)]
+pub(crate) fn varyings_of_rows<S: Shader, L: Lanes, const N: usize>(
+    like: L,
+    rows: &[Attrs; N],
+) -> Varyings<L> {
+    let zero = like.splat(0.0);
+    let mut v = [zero; MAX_VARYINGS];
+    let block = |at: usize| -> [[f32; 8]; 8] {
+        std::array::from_fn(|i| {
+            let r = &rows[i.min(N - 1)];
+            std::array::from_fn(|j| r[at + j])
+        })
+    };
+    let lo = like.columns(&block(0));
+    v[..8].copy_from_slice(&lo);
+    if S::VARYINGS > 8 {
+        let hi = like.columns(&block(8));
+        v[8..].copy_from_slice(&hi);
+    }
+    v
+}
+
+/// The colours of `N` pixels from their attribute rows through [`Shader::pixel`] in lanes of
+/// the kind of `like` (`L::N == N`).
+#[inline(always)]
+pub(crate) fn shade_rows<S: Shader, L: Lanes, const N: usize>(
+    shader: &S,
+    like: L,
+    rows: &[Attrs; N],
+    _count: usize,
+) -> [Vec3; N] {
+    let c = shader
+        .pixel(&varyings_of_rows::<S, L, N>(like, rows))
+        .to_vecs();
+    std::array::from_fn(|i| c[i])
+}
+
+/// The frame's lane width: eight lanes inside an AVX2 function when the frame runs them,
+/// else four.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Wide {
+    /// The AVX2 token when the frame runs eight lanes.
+    pub avx2: Option<crate::simd::Avx2>,
+}
+
+impl Wide {
+    /// The colours of eight pixels: one AVX2 call, or two of four lanes.
+    #[inline(always)]
+    pub fn shade8<S: Shader>(self, shader: &S, rows: &[Attrs; 8], count: usize) -> [Vec3; 8] {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = self.avx2 {
+            return avx2.run(Shade8 { shader, rows });
+        }
+        let half = |at: usize| -> [Attrs; 4] { std::array::from_fn(|i| rows[at + i]) };
+        let zero = phosphor_lighting::f32x4::ZERO;
+        let (lo, hi) = (half(0), half(4));
+        let (lo, hi) = (
+            shade_rows(shader, zero, &lo, count.min(4)),
+            shade_rows(shader, zero, &hi, count.saturating_sub(4)),
+        );
+        std::array::from_fn(|i| if i < 4 { lo[i] } else { hi[i - 4] })
+    }
+}
+
+/// Eight pixels of a shader's pixel stage as one AVX2 task.
+#[cfg(target_arch = "x86_64")]
+struct Shade8<'a, S> {
+    shader: &'a S,
+    rows: &'a [Attrs; 8],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<S: Shader> phosphor_lighting::Avx2Task for Shade8<'_, S> {
+    type Output = [Vec3; 8];
+    #[inline(always)]
+    fn run(self, s: phosphor_lighting::Avx2) -> [Vec3; 8] {
+        shade_rows(self.shader, s.splat(0.0), self.rows, 8)
+    }
+}

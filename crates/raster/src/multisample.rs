@@ -1,0 +1,276 @@
+//! Multisampled by-pixel shading: a band of samples, `K x K` per output pixel, shaded once
+//! per block and triangle. A block whose samples all show one triangle is shaded at its
+//! centre (runs of such blocks stepped by `K dA/dx`); a block on an edge once for each
+//! triangle it shows, at the centroid of that triangle's samples, and each colour written to
+//! every sample of its triangle in the block.
+
+use glam::Vec3;
+
+use crate::batch::Pending;
+use crate::bypixel::ByPixel;
+use crate::clip::{Attrs, MAX_ATTRS};
+use crate::coverage::lanes;
+use crate::traverse::planes_at;
+
+impl ByPixel<'_> {
+    /// [`ByPixel::shade`] of a multisampled band, `K x K` samples per pixel (`S` = `K * K`).
+    pub(crate) fn shade_blocks<const N: usize, const K: usize, const S: usize>(
+        &self,
+        color: &mut [Vec3],
+        shade: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
+    ) -> u64 {
+        match (self.perspective, lanes(self.n)) {
+            (true, 0) => self.run_blocks::<N, true, 0, K, S>(color, shade),
+            (true, 4) => self.run_blocks::<N, true, 4, K, S>(color, shade),
+            (true, 8) => self.run_blocks::<N, true, 8, K, S>(color, shade),
+            (true, _) => self.run_blocks::<N, true, MAX_ATTRS, K, S>(color, shade),
+            (false, 0) => self.run_blocks::<N, false, 0, K, S>(color, shade),
+            (false, 4) => self.run_blocks::<N, false, 4, K, S>(color, shade),
+            (false, 8) => self.run_blocks::<N, false, 8, K, S>(color, shade),
+            (false, _) => self.run_blocks::<N, false, MAX_ATTRS, K, S>(color, shade),
+        }
+    }
+
+    /// The columns of blocks in block row `by` that the depth pass wrote in any of its rows.
+    fn block_columns<const K: usize>(&self, by: usize) -> std::ops::Range<usize> {
+        let width = self.width as usize;
+        let rows = self
+            .extents
+            .get(by * K..((by + 1) * K).min(self.extents.len()));
+        let (lo, hi) = rows
+            .unwrap_or(&[])
+            .iter()
+            .fold((usize::MAX, 0), |(lo, hi), &(l, h)| {
+                let h = (h as usize).min(width);
+                if (l as usize) < h {
+                    (lo.min(l as usize), hi.max(h))
+                } else {
+                    (lo, hi)
+                }
+            });
+        if lo >= hi {
+            0..0
+        } else {
+            lo / K..hi.div_ceil(K)
+        }
+    }
+
+    /// [`ByPixel::shade`] once per `K x K` block and triangle: a block whose samples all show
+    /// one triangle is shaded at its centre, and a run of such blocks is stepped by
+    /// `K * dA/dx`; a block on an edge is shaded once for each triangle it shows, at the
+    /// centroid of that triangle's samples. Each colour is written to every sample of its
+    /// triangle in the block.
+    #[inline(always)]
+    fn run_blocks<
+        const N: usize,
+        const PERSPECTIVE: bool,
+        const L: usize,
+        const K: usize,
+        const S: usize,
+    >(
+        &self,
+        color: &mut [Vec3],
+        shade4: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
+    ) -> u64 {
+        let kf = K as f64;
+        let width = self.width as usize;
+        let all = block_mask::<K>();
+        let mut shaded = 0;
+        let mut pending = Pending::<BlockSamples, N>::new();
+        for by in 0..self.extents.len() / K {
+            let top = (self.y0 + (by * K) as i64) as f64;
+            // The run of whole blocks being stepped, as in `run`, by K pixels a block.
+            let (mut run, mut next) = (u64::MAX, usize::MAX);
+            let (mut inv_w, mut attrs) = (1.0f64, [0.0f32; MAX_ATTRS]);
+            let (mut step_w, mut step) = (0.0f64, [0.0f32; MAX_ATTRS]);
+            for bx in self.block_columns::<K>(by) {
+                let base = by * K * width + bx * K;
+                let Some(ids) = self.block_ids::<K, S>(base) else {
+                    continue;
+                };
+                if ids[1..].iter().all(|&id| id == ids[0]) {
+                    if ids[0] == run && bx == next {
+                        if PERSPECTIVE {
+                            inv_w += step_w;
+                        }
+                        for j in 0..L {
+                            attrs[j] += step[j];
+                        }
+                    } else {
+                        let Some(p) = self.planes_of(ids[0]) else {
+                            continue;
+                        };
+                        let o = (
+                            (bx * K) as f64 + kf * 0.5 - p.origin.0,
+                            top + kf * 0.5 - p.origin.1,
+                        );
+                        (inv_w, attrs) =
+                            planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
+                        step_w = kf * p.inv_w[1];
+                        for j in 0..L {
+                            step[j] = (kf * f64::from(p.attr_dx[j])) as f32;
+                        }
+                        run = ids[0];
+                    }
+                    next = bx + 1;
+                    let w = if PERSPECTIVE {
+                        (1.0 / inv_w) as f32
+                    } else {
+                        1.0
+                    };
+                    if pending.queue((base, all), (&attrs, w, L)) {
+                        pending.flush_into(&shade4, |at, c| write_block::<K>(color, width, at, c));
+                    }
+                    shaded += 1;
+                    continue;
+                }
+                // An edge: once per triangle shown, at the centroid of its samples.
+                run = u64::MAX;
+                let mut left = all;
+                while left != 0 {
+                    let first = left.trailing_zeros() as usize;
+                    let id = ids[first];
+                    let mut mask = 0u16;
+                    for (j, &other) in ids.iter().enumerate().skip(first) {
+                        if other == id {
+                            mask |= 1 << j;
+                        }
+                    }
+                    left &= !mask;
+                    let Some(p) = self.planes_of(id) else {
+                        continue;
+                    };
+                    let (cx, cy) = centroid::<K>(mask);
+                    let o = ((bx * K) as f64 + cx - p.origin.0, top + cy - p.origin.1);
+                    let (iw, a) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
+                    let w = if PERSPECTIVE { (1.0 / iw) as f32 } else { 1.0 };
+                    if pending.queue((base, mask), (&a, w, L)) {
+                        pending.flush_into(&shade4, |at, c| write_block::<K>(color, width, at, c));
+                    }
+                    shaded += 1;
+                }
+            }
+        }
+        pending.flush_into(&shade4, |at, c| write_block::<K>(color, width, at, c));
+        shaded
+    }
+
+    /// The ids of the `K x K` samples of the block whose first sample is `base` (rows, then
+    /// columns); `None` past the band's ids.
+    #[inline(always)]
+    fn block_ids<const K: usize, const S: usize>(&self, base: usize) -> Option<[u64; S]> {
+        let mut ids = [u64::MAX; S];
+        for sy in 0..K {
+            let row = base + sy * self.width as usize;
+            ids[sy * K..(sy + 1) * K].copy_from_slice(self.ids.get(row..row + K)?);
+        }
+        Some(ids)
+    }
+}
+
+/// The mask of every sample of a `K x K` block (bit `sy * K + sx`).
+#[inline(always)]
+const fn block_mask<const K: usize>() -> u16 {
+    if K * K >= 16 {
+        u16::MAX
+    } else {
+        (1 << (K * K)) - 1
+    }
+}
+
+/// The centroid, in samples from the block's corner, of the samples in `mask` (bit
+/// `sy * K + sx`; not empty) of a `K x K` block, each sample counted at its centre: looked up
+/// for 2 x 2 blocks, whose 16 masks make a small table.
+#[inline(always)]
+fn centroid<const K: usize>(mask: u16) -> (f64, f64) {
+    if K == 2 {
+        CENTROIDS_2X2[usize::from(mask) & 15]
+    } else {
+        centroid_of(mask, K)
+    }
+}
+
+/// [`centroid`] of every mask of a 2 x 2 block.
+const CENTROIDS_2X2: [(f64, f64); 16] = {
+    let mut table = [(0.0, 0.0); 16];
+    let mut mask = 1;
+    while mask < 16 {
+        table[mask] = centroid_of(mask as u16, 2);
+        mask += 1;
+    }
+    table
+};
+
+/// [`centroid`] of `mask` in a `k x k` block, summed in integers (twice the offsets).
+const fn centroid_of(mask: u16, k: usize) -> (f64, f64) {
+    let (mut sx, mut sy, mut j) = (0u32, 0u32, 0);
+    while j < k * k {
+        if mask & (1 << j) != 0 {
+            sx += 2 * (j % k) as u32 + 1;
+            sy += 2 * (j / k) as u32 + 1;
+        }
+        j += 1;
+    }
+    let twice_count = 2.0 * mask.count_ones() as f64;
+    (sx as f64 / twice_count, sy as f64 / twice_count)
+}
+
+/// Where a multisampled shading's colour goes: the first sample of its block and a mask of the
+/// block's samples (bit `sy * K + sx`) that take it.
+type BlockSamples = (usize, u16);
+
+/// Writes colour `c` to the samples `(base, mask)` of a `K x K` block in rows `width` long.
+#[inline(always)]
+fn write_block<const K: usize>(
+    color: &mut [Vec3],
+    width: usize,
+    (base, mask): BlockSamples,
+    c: Vec3,
+) {
+    if mask == block_mask::<K>() {
+        for sy in 0..K {
+            let row = base + sy * width;
+            if let Some(row) = color.get_mut(row..row + K) {
+                row.fill(c);
+            }
+        }
+        return;
+    }
+    for sy in 0..K {
+        for sx in 0..K {
+            if mask & (1 << (sy * K + sx)) != 0 {
+                if let Some(p) = color.get_mut(base + sy * width + sx) {
+                    *p = c;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centroids_are_the_mean_of_the_sample_centres() {
+        // 2 x 2 (bits: 0 top left, 1 top right, 2 bottom left, 3 bottom right).
+        assert_eq!(centroid::<2>(0b0001), (0.5, 0.5));
+        assert_eq!(centroid::<2>(0b1000), (1.5, 1.5));
+        assert_eq!(centroid::<2>(0b0011), (1.0, 0.5));
+        assert_eq!(centroid::<2>(0b0101), (0.5, 1.0));
+        assert_eq!(centroid::<2>(0b1111), (1.0, 1.0));
+        assert_eq!(centroid::<2>(0b0111), (2.5 / 3.0, 2.5 / 3.0));
+        // 4 x 4: the whole block, one corner, the bottom row.
+        assert_eq!(centroid::<4>(u16::MAX), (2.0, 2.0));
+        assert_eq!(centroid::<4>(1 << 15), (3.5, 3.5));
+        assert_eq!(centroid::<4>(0xF000), (2.0, 3.5));
+        // The table agrees with a sum of f64 sample centres for every 2 x 2 mask.
+        for mask in 1u16..16 {
+            let bits: Vec<usize> = (0..4).filter(|j| mask & (1 << j) != 0).collect();
+            let n = bits.len() as f64;
+            let sx = bits.iter().map(|j| (j % 2) as f64 + 0.5).sum::<f64>() / n;
+            let sy = bits.iter().map(|j| (j / 2) as f64 + 0.5).sum::<f64>() / n;
+            assert_eq!(centroid::<2>(mask), (sx, sy), "mask {mask:04b}");
+        }
+    }
+}

@@ -1,0 +1,200 @@
+//! One draw as every band reads it ([`BandInput`]): the records' vertices and set-up, and
+//! the drawing of one record in a pass, the shading it gets picked from the shader's
+//! declarations.
+
+use glam::Vec3;
+
+use crate::batch::{Pending, Wide};
+use crate::bin::{Binned, EXTRA_VERTEX, TriRec};
+use crate::coverage::{BandTarget, Pass};
+use crate::incremental::{IncrementalTri, traverse_incremental};
+use crate::setup::{RasterTri, ScreenPos};
+use crate::shader::{Face, Shader};
+use crate::traverse::{Batched, OnePixel, Solid, SpanShade, SteppedSpan, traverse};
+
+/// How many records ahead the band loops touch vertex data ([`BandInput::touch`]).
+pub(crate) const AHEAD: usize = 4;
+
+/// One draw as every band reads it: the shader, the vertex stage's screen positions `pos`
+/// ([`ScreenPos::NONE`] where a vertex has none) and varyings `attrs` (`S::VARYINGS` per
+/// vertex), and the bin stage's chunks.
+pub(crate) struct BandInput<'a, S: Shader> {
+    /// The draw's shader.
+    pub shader: &'a S,
+    /// Screen position per mesh vertex.
+    pub pos: &'a [ScreenPos],
+    /// Varyings per mesh vertex.
+    pub attrs: &'a [f32],
+    /// Binned triangles, in submission order.
+    pub chunks: &'a [Binned<S::Stepped>],
+    /// Perspective-correct attributes.
+    pub perspective: bool,
+    /// The classic incremental scan line for interpolated triangles.
+    pub incremental: bool,
+    /// The frame's lane width.
+    pub wide: Wide,
+}
+
+impl<S: Shader> BandInput<'_, S> {
+    /// The screen positions and first `n` attributes of record `r`'s vertices: from `c`'s
+    /// clipped vertices, or from the draw's per-vertex arrays; `None` when a vertex is
+    /// missing or has no screen position.
+    #[inline(always)]
+    pub(crate) fn vertices_of<'c>(
+        &'c self,
+        r: &TriRec,
+        c: &'c Binned<S::Stepped>,
+        n: usize,
+    ) -> Option<([ScreenPos; 3], [&'c [f32]; 3])> {
+        if r.v.iter().any(|&i| i & EXTRA_VERTEX != 0) {
+            let v = r.v.map(|i| c.extra.get((i & !EXTRA_VERTEX) as usize));
+            let [Some(a), Some(b), Some(d)] = v else {
+                return None;
+            };
+            return Some(([a.pos(), b.pos(), d.pos()], [&a.attrs, &b.attrs, &d.attrs]));
+        }
+        let p =
+            r.v.map(|i| self.pos.get(i as usize).copied().unwrap_or(ScreenPos::NONE));
+        if p.iter().any(ScreenPos::is_none) {
+            return None;
+        }
+        let stride = S::VARYINGS;
+        let a = r.v.map(|i| {
+            let i = i as usize;
+            self.attrs.get(i * stride..(i + 1) * stride).unwrap_or(&[])
+        });
+        a.iter().all(|a| a.len() >= n).then_some((p, a))
+    }
+
+    /// Set-up of record `r` of chunk `c` into `t` with `n` attributes; false when it has no
+    /// vertices or no area.
+    #[inline(always)]
+    pub(crate) fn setup(
+        &self,
+        t: &mut RasterTri,
+        c: &Binned<S::Stepped>,
+        r: &TriRec,
+        n: usize,
+    ) -> bool {
+        self.vertices_of(r, c, n)
+            .is_some_and(|(p, a)| t.set(p, a, n, self.perspective))
+    }
+
+    /// Reads the first vertex data set-up will need of record `r` (one [`AHEAD`] places on),
+    /// so that the cache misses of fetching it (vertices are scattered over the mesh) overlap
+    /// the work on the records before it: a prefetch in safe code. The value is folded into a
+    /// sink so that the loads are kept.
+    #[inline(always)]
+    pub(crate) fn touch(&self, r: Option<&TriRec>, n: usize) -> u32 {
+        let Some(r) = r else { return 0 };
+        let mut sink = 0u32;
+        for &i in &r.v {
+            if i & EXTRA_VERTEX == 0 {
+                sink ^= self.pos.get(i as usize).map_or(0, |p| p.fx as u32);
+                if n > 0 {
+                    sink ^= self
+                        .attrs
+                        .get(i as usize * S::VARYINGS)
+                        .map_or(0, |a| a.to_bits());
+                }
+            }
+        }
+        sink
+    }
+
+    /// Band `b`'s records, chunk after chunk, with the chunk each belongs to.
+    pub(crate) fn records(
+        &self,
+        b: usize,
+    ) -> impl Iterator<Item = (&Binned<S::Stepped>, &[TriRec])> {
+        self.chunks.iter().map(move |c| (c, c.band(b)))
+    }
+
+    /// Whether record `r` is drawn by its stepped data (else it is interpolated).
+    #[inline(always)]
+    pub(crate) fn is_stepped(c: &Binned<S::Stepped>, r: &TriRec) -> bool {
+        S::FACE == Face::Stepped && c.stepped_of(r).is_some()
+    }
+
+    /// Draws record `r` of chunk `c`, set up in `t` with the shader's varyings, into
+    /// `target`'s pass; interpolated pixels of a shade-once shader go through `batched`.
+    /// Returns the pixels shaded.
+    #[inline(always)]
+    pub(crate) fn draw(
+        &self,
+        t: &RasterTri,
+        (c, r): (&Binned<S::Stepped>, &TriRec),
+        target: &mut BandTarget,
+        batched: &mut Batched<S>,
+    ) -> u64 {
+        match S::FACE {
+            Face::Constant => {
+                let color = c.colors.get(r.tri as usize).copied().unwrap_or(Vec3::ZERO);
+                return traverse(t, &mut Solid::of(color), target);
+            }
+            Face::Stepped => {
+                if let Some(tri) = c.stepped_of(r) {
+                    let mut shade = SteppedSpan {
+                        shader: self.shader,
+                        tri,
+                    };
+                    return traverse(t, &mut shade, target);
+                }
+            }
+            Face::Interpolated => {}
+        }
+        let full = target.pass == Pass::Full;
+        let shaded = match (self.incremental, S::SHADE_ONCE) {
+            (false, false) => traverse(t, &mut OnePixel(self.shader), target),
+            (false, true) => traverse(t, batched, target),
+            (true, once) => {
+                let Some((p, a)) = self.vertices_of(r, c, S::VARYINGS) else {
+                    return 0;
+                };
+                let walk = IncrementalTri::new(p, a, S::VARYINGS);
+                if once {
+                    traverse_incremental(t, batched, &walk, target)
+                } else {
+                    traverse_incremental(t, &mut OnePixel(self.shader), &walk, target)
+                }
+            }
+        };
+        // In a full pass a later triangle may draw over a waiting pixel: shade it now.
+        if full {
+            batched.flush(target.color);
+        }
+        shaded
+    }
+
+    /// The batching state of a band.
+    pub(crate) fn batched(&self) -> Batched<'_, S> {
+        Batched {
+            shader: self.shader,
+            pending: Pending::new(),
+        }
+    }
+}
+
+/// The incremental walk's start of a record: its screen positions and varyings as the
+/// set-up reads them.
+impl IncrementalTri {
+    /// From the three vertices' positions `p` and first `n` varyings `a` (divided by `w`).
+    pub(crate) fn new(p: [ScreenPos; 3], a: [&[f32]; 3], n: usize) -> IncrementalTri {
+        let inv_one = 1.0 / phosphor_math::fixed::SUBPIXEL_ONE as f64;
+        IncrementalTri {
+            xy: p.map(|p| (f64::from(p.fx) * inv_one, f64::from(p.fy) * inv_one)),
+            inv_w: p.map(|p| p.inv_w as f32),
+            attrs: a.map(|a| {
+                let mut out = [0.0; crate::clip::MAX_ATTRS];
+                for (o, v) in out.iter_mut().zip(a).take(n) {
+                    *o = *v;
+                }
+                out
+            }),
+        }
+    }
+}
+
+/// Keeps the trait in scope for `batched.flush`.
+#[allow(dead_code)]
+fn _uses<T: SpanShade>() {}

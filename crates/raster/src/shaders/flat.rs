@@ -1,0 +1,53 @@
+//! `flat`: the model once per triangle, with the face normal, at the centroid (the lecture
+//! notes' constant-intensity shading, "calculate the intensity for each facet, say, at the
+//! centre"), several triangles per call in lanes.
+
+use glam::Vec3;
+use phosphor_lighting::{Lanes, Vec3s, shade_lanes};
+
+use super::Lit;
+use crate::shader::{Face, MAX_VARYINGS, Shader, TriangleLanes, Varyings, VertexLanes};
+
+/// The flat mode for effect set `FX`.
+#[derive(Debug, Clone, Copy)]
+pub struct Flat<'a, const FX: u32> {
+    /// Lights, material, viewer.
+    pub lit: Lit<'a>,
+}
+
+impl<const FX: u32> Shader for Flat<'_, FX> {
+    const VARYINGS: usize = 0;
+    const FACE: Face = Face::Constant;
+    type Stepped = ();
+    #[inline(always)]
+    fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L> {
+        [v.position.x.splat(0.0); MAX_VARYINGS]
+    }
+    #[inline(always)]
+    fn constant<L: Lanes>(&self, t: &TriangleLanes<L>) -> Vec3s<L> {
+        let [a, b, c] = t.corners.map(|c| c.position);
+        // The facet, as the scalar `(a + b + c) / 3` and `safe_normalize((b - a) x (c - a))`
+        // compute it; counter-clockwise is front, so the cross product points outwards.
+        let like = a.x;
+        let centroid = Vec3s::new(
+            (a.x + b.x + c.x) / like.splat(3.0),
+            (a.y + b.y + c.y) / like.splat(3.0),
+            (a.z + b.z + c.z) / like.splat(3.0),
+        );
+        let n = (b - a)
+            .cross(c - a)
+            .safe_normalize(Vec3s::broadcast(like, Vec3::ZERO));
+        // Bit for bit the scalar model in every lane.
+        shade_lanes::<FX, L>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
+    }
+    #[inline(always)]
+    fn pixel<L: Lanes>(&self, v: &Varyings<L>) -> Vec3s<L> {
+        Vec3s::broadcast(v[0], Vec3::ZERO)
+    }
+}
+
+/// Draws `d` flat into `frame`, specialized for its effects.
+pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
+    let lit = Lit::new(d.lights, d.material, d.effects, frame.eye());
+    crate::with_fx!(d.effects, FX => frame.draw(&d.mesh, d.model, &Flat::<FX> { lit }, d.cull_backfaces));
+}

@@ -1,0 +1,335 @@
+//! Traversal of one set-up triangle inside a band, span by span, shading as it goes.
+//!
+//! Attributes are planes `A(x, y)`: at each span start every plane is evaluated afresh, then
+//! stepped along the span by the triangle's constant `dA/dx` per pixel (Gouraud 1971's
+//! `(I5 - I4)/(x5 - x4)`). Unlike the classic scan-line algorithm, nothing is stepped from one
+//! scan line to the next, so no rounding error accumulates down a tall triangle. The classic
+//! form, edge values stepped per scan line in f32, is [`crate::incremental`], with the same
+//! coverage and depth. With perspective the stepped values are `A/w` and `1/w`, divided per
+//! pixel.
+//!
+//! What a covered pixel gets is a [`SpanShade`]: one colour ([`Solid`]), the shader's pixel
+//! stage one pixel at a time ([`OnePixel`]) or four at a time across triangles ([`Batched`]),
+//! or a stepped triangle's quadratics ([`SteppedSpan`]).
+
+use glam::Vec3;
+use phosphor_lighting::F32x1;
+
+use crate::batch::{Pending, shade_rows};
+use crate::clip::{Attrs, MAX_ATTRS};
+use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, lanes, pixel_drawn};
+use crate::framebuffer::clamp_color;
+use crate::setup::RasterTri;
+use crate::shader::{MAX_QUADRATICS, Pixels, Shader, Stepped, Varyings};
+
+/// What a traversal does at each covered pixel that passes its test.
+pub(crate) trait SpanShade {
+    /// Attributes read (a prefix of [`Attrs`]).
+    const ATTRS: usize;
+    /// Per-span state.
+    type Span;
+    /// State at the first pixel of a span whose centre is `(x, y)` in pixels.
+    fn span(&self, x: f64, y: f64) -> Self::Span;
+    /// Shades pixel `idx` of the band, at column `x` of row `y`, whose attributes are
+    /// `attrs` times `w` (the perspective divide), into `color`.
+    fn pixel(
+        &mut self,
+        span: &Self::Span,
+        idx: usize,
+        attrs: (&Attrs, f32),
+        at: (i64, i64),
+        color: &mut [Vec3],
+    );
+    /// Moves the span state one pixel to the right.
+    fn step(span: &mut Self::Span);
+    /// Shades what is still waiting (batched kernels), after the triangle or the band.
+    #[inline(always)]
+    fn flush(&mut self, color: &mut [Vec3]) {
+        let _ = color;
+    }
+}
+
+/// One colour for every pixel, clamped once.
+pub(crate) struct Solid(pub Vec3);
+
+impl SpanShade for Solid {
+    const ATTRS: usize = 0;
+    type Span = ();
+    #[inline(always)]
+    fn span(&self, _: f64, _: f64) {}
+    #[inline(always)]
+    fn pixel(&mut self, _: &(), idx: usize, _: (&Attrs, f32), _: (i64, i64), color: &mut [Vec3]) {
+        color[idx] = self.0;
+    }
+    #[inline(always)]
+    fn step(_: &mut ()) {}
+}
+
+impl Solid {
+    /// The colour `c`, clamped as every colour written is.
+    #[must_use]
+    pub fn of(c: Vec3) -> Solid {
+        debug_assert!(c.is_finite(), "non-finite colour {c}");
+        Solid(clamp_color(c))
+    }
+}
+
+/// `attrs[..n] * w` as one-lane varyings (lanes past `n` zero).
+#[inline(always)]
+fn one_lane(attrs: &Attrs, w: f32, n: usize) -> Varyings<F32x1> {
+    let mut v = [F32x1(0.0); MAX_ATTRS];
+    for k in 0..n {
+        v[k] = F32x1(attrs[k] * w);
+    }
+    v
+}
+
+/// The first lane of `c` as a clamped colour.
+#[inline(always)]
+fn first(c: phosphor_lighting::Vec3s<F32x1>) -> Vec3 {
+    let c = Vec3::new(c.x.0, c.y.0, c.z.0);
+    debug_assert!(c.is_finite(), "non-finite colour {c}");
+    clamp_color(c)
+}
+
+/// The shader's pixel stage, one pixel per call.
+pub(crate) struct OnePixel<'s, S>(pub &'s S);
+
+impl<S: Shader> SpanShade for OnePixel<'_, S> {
+    const ATTRS: usize = S::VARYINGS;
+    type Span = ();
+    #[inline(always)]
+    fn span(&self, _: f64, _: f64) {}
+    #[inline(always)]
+    fn pixel(&mut self, _: &(), idx: usize, (a, w): (&Attrs, f32), _: (i64, i64), c: &mut [Vec3]) {
+        c[idx] = first(self.0.pixel(&one_lane(a, w, lanes(S::VARYINGS))));
+    }
+    #[inline(always)]
+    fn step(_: &mut ()) {}
+}
+
+/// The shader's pixel stage four pixels per call, the pixels of successive triangles sharing
+/// a call (each pixel is written by one triangle in a visible pass); flushed at the band's end.
+pub(crate) struct Batched<'s, S> {
+    pub shader: &'s S,
+    pub pending: Pending<usize, 4>,
+}
+
+impl<S: Shader> SpanShade for Batched<'_, S> {
+    const ATTRS: usize = S::VARYINGS;
+    type Span = ();
+    #[inline(always)]
+    fn span(&self, _: f64, _: f64) {}
+    #[inline(always)]
+    fn pixel(&mut self, _: &(), idx: usize, a: (&Attrs, f32), _: (i64, i64), c: &mut [Vec3]) {
+        let shader = self.shader;
+        let shade = |rows: &[Attrs; 4], count| {
+            shade_rows(shader, phosphor_lighting::f32x4::ZERO, rows, count)
+        };
+        self.pending
+            .push(idx, (a.0, a.1, lanes(S::VARYINGS)), shade, c);
+    }
+    #[inline(always)]
+    fn step(_: &mut ()) {}
+    #[inline(always)]
+    fn flush(&mut self, c: &mut [Vec3]) {
+        let shader = self.shader;
+        let shade = |rows: &[Attrs; 4], count| {
+            shade_rows(shader, phosphor_lighting::f32x4::ZERO, rows, count)
+        };
+        self.pending.flush_with(shade, c);
+    }
+}
+
+/// A stepped triangle's pixels: its quadratics stepped by forward differences (value, first
+/// and second difference in `f64`), its varyings from the planes.
+pub(crate) struct SteppedSpan<'s, S: Shader> {
+    pub shader: &'s S,
+    pub tri: &'s Stepped<S::Stepped>,
+}
+
+impl<S: Shader> SpanShade for SteppedSpan<'_, S> {
+    const ATTRS: usize = S::VARYINGS;
+    type Span = [[f64; 3]; MAX_QUADRATICS];
+    #[inline(always)]
+    fn span(&self, x: f64, y: f64) -> Self::Span {
+        let t = self.tri;
+        let (u, v) = (x - t.origin.0, y - t.origin.1);
+        let mut d = [[0.0; 3]; MAX_QUADRATICS];
+        for (d, q) in d.iter_mut().zip(&t.quadratics).take(t.count) {
+            *d = q.differences(u, v);
+        }
+        d
+    }
+    #[inline(always)]
+    fn pixel(
+        &mut self,
+        d: &Self::Span,
+        idx: usize,
+        (a, w): (&Attrs, f32),
+        (x, y): (i64, i64),
+        c: &mut [Vec3],
+    ) {
+        let q = d.map(|d| F32x1(d[0] as f32));
+        let at = Pixels {
+            x: F32x1(x as f32 + 0.5),
+            y: F32x1(y as f32 + 0.5),
+        };
+        let v = one_lane(a, w, lanes(S::VARYINGS));
+        c[idx] = first(self.shader.stepped_pixel(&self.tri.data, &q, &v, &at));
+    }
+    #[inline(always)]
+    fn step(d: &mut Self::Span) {
+        for d in d.iter_mut() {
+            d[0] += d[1];
+            d[1] += d[2];
+        }
+    }
+}
+
+/// Draws the part of triangle `t` inside the band, shading with `shade`; returns the number
+/// of pixels shaded.
+pub(crate) fn traverse<T: SpanShade>(t: &RasterTri, shade: &mut T, target: &mut BandTarget) -> u64 {
+    if t.n < T::ATTRS {
+        // Set up with fewer attributes than the shade reads: the missing ones are zero. (The
+        // traversal steps the lanes whole, see `lanes`, whatever the plane holds past its
+        // own count.)
+        let mut padded = *t;
+        for k in t.n..MAX_ATTRS {
+            padded.attr0[k] = 0.0;
+            padded.attr_dx[k] = 0.0;
+            padded.attr_dy[k] = 0.0;
+        }
+        padded.n = T::ATTRS;
+        return traverse(&padded, shade, target);
+    }
+    match (t.perspective, target.pass) {
+        (true, Pass::Full) => traverse_impl::<T, true, false>(t, shade, target),
+        (false, Pass::Full) => traverse_impl::<T, false, false>(t, shade, target),
+        (true, Pass::Visible(_)) => traverse_impl::<T, true, true>(t, shade, target),
+        (false, Pass::Visible(_)) => traverse_impl::<T, false, true>(t, shade, target),
+    }
+}
+
+fn traverse_impl<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
+    t: &RasterTri,
+    shade: &mut T,
+    target: &mut BandTarget,
+) -> u64 {
+    let mut shaded = 0;
+    let (width, y0, y1) = (target.width, target.y0, target.y1);
+    for_each_span(
+        t,
+        width,
+        y0,
+        y1,
+        #[inline(always)]
+        |y, xs, xe| {
+            shaded += span::<T, PERSPECTIVE, VISIBLE>(t, shade, target, y, xs, xe);
+        },
+    );
+    shaded
+}
+
+/// One span of `t`: the attribute lanes are stepped whole ([`lanes`]).
+#[inline(always)]
+fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
+    t: &RasterTri,
+    shade: &mut T,
+    target: &mut BandTarget,
+    y: i64,
+    x_start: i64,
+    x_end: i64,
+) -> u64 {
+    let n = lanes(T::ATTRS);
+    // Span start: every plane evaluated once at the first pixel centre.
+    let xc = x_start as f64 + 0.5;
+    let yc = y as f64 + 0.5;
+    let (ox, oy) = (xc - t.origin.0, yc - t.origin.1);
+    let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
+    let (mut inv_w, mut attrs) =
+        planes_at(&t.inv_w, [&t.attr0, &t.attr_dx, &t.attr_dy], (ox, oy), n);
+    let mut state = shade.span(xc, yc);
+    let row = ((y - target.y0) as usize) * target.width as usize;
+    let id = match target.pass {
+        Pass::Visible(id) => id,
+        Pass::Full => 0,
+    };
+    let mut shaded = 0;
+    for x in x_start..x_end {
+        let idx = row + x as usize;
+        if pixel_drawn::<VISIBLE>(target, idx, id, depth) {
+            let w = if PERSPECTIVE && n > 0 {
+                (1.0 / inv_w) as f32
+            } else {
+                1.0
+            };
+            shade.pixel(&state, idx, (&attrs, w), (x, y), target.color);
+            if !VISIBLE {
+                target.depth[idx] = depth_stored(depth);
+            }
+            shaded += 1;
+        }
+        depth += t.depth[1];
+        if PERSPECTIVE && n > 0 {
+            inv_w += t.inv_w[1];
+        }
+        for k in 0..n {
+            attrs[k] += t.attr_dx[k];
+        }
+        T::step(&mut state);
+    }
+    shaded
+}
+
+/// The attribute planes of a set-up triangle: what the by-pixel pass evaluates.
+#[derive(Debug, Clone, Copy)]
+pub struct Planes {
+    /// Plane origin in pixels.
+    pub origin: (f64, f64),
+    /// `1/w` at the origin, `d/dx`, `d/dy`.
+    pub inv_w: [f64; 3],
+    /// Attributes at the origin.
+    pub attr0: Attrs,
+    /// `d attr / dx`.
+    pub attr_dx: Attrs,
+    /// `d attr / dy`.
+    pub attr_dy: Attrs,
+}
+
+impl Planes {
+    /// The planes of `t`.
+    #[inline]
+    #[must_use]
+    pub fn of(t: &RasterTri) -> Planes {
+        Planes {
+            origin: t.origin,
+            inv_w: t.inv_w,
+            attr0: t.attr0,
+            attr_dx: t.attr_dx,
+            attr_dy: t.attr_dy,
+        }
+    }
+}
+
+/// `1/w` and attributes `0..n` at offset `(ox, oy)` from the planes' origin: each plane
+/// (`inv_w`, and `attr0`, `attr_dx`, `attr_dy` in `a`) evaluated once, as at a span start;
+/// stepping by `dA/dx` then continues along the row. `1/w` is evaluated in f64, as the depth
+/// pass's depth; the attributes in f32 from the origin (a vertex of the triangle, so the
+/// offsets are at most the triangle's size), which is whole f32 vectors and as exact as the
+/// f32 stepping that follows.
+#[inline(always)]
+pub(crate) fn planes_at(
+    inv_w: &[f64; 3],
+    a: [&Attrs; 3],
+    (ox, oy): (f64, f64),
+    n: usize,
+) -> (f64, Attrs) {
+    let inv_w = inv_w[0] + ox * inv_w[1] + oy * inv_w[2];
+    let (fx, fy) = (ox as f32, oy as f32);
+    let mut attrs: Attrs = [0.0; MAX_ATTRS];
+    for k in 0..n {
+        attrs[k] = a[0][k] + fx * a[1][k] + fy * a[2][k];
+    }
+    (inv_w, attrs)
+}
