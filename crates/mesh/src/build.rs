@@ -7,7 +7,6 @@ use glam::{DVec3, Vec2, Vec3};
 
 use crate::mesh::Mesh;
 use crate::normals::{self, FaceData, NormalOptions, NormalSource, SmoothRule};
-use crate::tangents;
 
 /// Triangles over shared (welded) positions, before vertex normals exist.
 ///
@@ -181,13 +180,8 @@ impl TriangleSoup {
         mesh.surface_ids = surfaces;
         mesh.material_ids = soup.material_ids.clone();
         mesh.smoothing_groups = groups;
-        if let Some(uvs) = &mesh.uvs {
-            mesh.tangents = Some(tangents::compute(
-                &mesh.positions,
-                &mesh.normals,
-                uvs,
-                &mesh.indices,
-            ));
+        if mesh.uvs.is_some() {
+            mesh.compute_tangents();
         }
         mesh
     }

@@ -118,7 +118,8 @@ pub use loader::{
     MAX_MTL_BYTES, MAX_WARNING_CHARS, load_obj, load_obj_with_warnings, parse_obj,
     parse_obj_with_warnings,
 };
-pub use mesh::{Mesh, MtlMaterial, fallback_tangent};
+pub use mesh::{Mesh, MtlMaterial};
 pub use normals::{NormalOptions, NormalSource, Weighting, triangle_normal_f64};
 pub use stats::MeshStats;
+pub use tangents::fallback_tangent;
 pub use topology::is_closed_solid;

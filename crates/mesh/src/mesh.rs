@@ -136,18 +136,6 @@ impl Mesh {
             .map_or(0.0, |(_, a2)| a2)
     }
 
-    /// Fills `tangents`: from the uvs where there are any (see [`crate::tangents`]), otherwise
-    /// [`fallback_tangent`] of each normal (any unit vector perpendicular to it, `w = +1`).
-    pub fn ensure_tangents(&mut self) {
-        let tangents = match &self.uvs {
-            Some(uvs) => {
-                crate::tangents::compute(&self.positions, &self.normals, uvs, &self.indices)
-            }
-            None => self.normals.iter().map(|&n| fallback_tangent(n)).collect(),
-        };
-        self.tangents = Some(tangents);
-    }
-
     /// True when every invariant in the type docs holds (lengths, index ranges, unit finite
     /// normals and tangents). Used by the tests; cheap enough for debug assertions.
     #[must_use]
@@ -175,57 +163,9 @@ impl Mesh {
     }
 }
 
-/// Tangent for bump mapping where the mesh gives no uv direction: a unit vector perpendicular
-/// to `n`, continuous except on one great circle, from Duff et al., "Building an Orthonormal
-/// Basis, Revisited" (JCGT 2017). `w` is +1. A non-unit or non-finite `n` is treated as +Z.
-#[must_use]
-pub fn fallback_tangent(n: Vec3) -> Vec4 {
-    let n = phosphor_math::safe_normalize(n, Vec3::Z);
-    let sign = 1.0_f32.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    let t = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    phosphor_math::safe_normalize(t, Vec3::X).extend(1.0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use proptest::prelude::*;
-
-    proptest! {
-        #[test]
-        fn fallback_tangent_is_unit_and_perpendicular(x in -1.0f32..1.0, y in -1.0f32..1.0, z in -1.0f32..1.0) {
-            let n = Vec3::new(x, y, z);
-            prop_assume!(n.length() > 1e-3);
-            let n = n.normalize();
-            let t = fallback_tangent(n);
-            prop_assert!((t.truncate().length() - 1.0).abs() < 1e-5);
-            prop_assert!(t.truncate().dot(n).abs() < 1e-5);
-        }
-    }
-
-    #[test]
-    fn fallback_tangent_handles_poles_and_garbage() {
-        for n in [Vec3::Z, Vec3::NEG_Z, Vec3::X, Vec3::ZERO, Vec3::NAN] {
-            let t = fallback_tangent(n);
-            assert!(t.is_finite() && (t.truncate().length() - 1.0).abs() < 1e-6);
-        }
-    }
-
-    #[test]
-    fn ensure_tangents_without_uvs_uses_the_fallback() {
-        let mut m = crate::primitives::cube(1.0);
-        m.uvs = None;
-        m.ensure_tangents();
-        assert!(m.is_consistent());
-        let ts = m.tangents.as_ref().expect("filled");
-        assert!(
-            ts.iter()
-                .zip(&m.normals)
-                .all(|(t, n)| t.truncate().dot(*n).abs() < 1e-6)
-        );
-    }
 
     #[test]
     fn normalize_unit_leaves_a_single_point_finite() {
