@@ -3,7 +3,7 @@
 
 use std::collections::HashMap;
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use crate::mesh::Mesh;
 use crate::normals::{self, NormalOptions, NormalSource, SmoothRule};
@@ -26,6 +26,13 @@ pub struct TriangleSoup {
     pub uvs: Option<(Vec<Vec2>, Vec<[u32; 3]>)>,
     /// Authored normals (`vn`) and, per triangle, the normal index of each corner.
     pub normals: Option<(Vec<Vec3>, Vec<[u32; 3]>)>,
+    /// Vertex colours (linear RGB in `[0, 1]`) and, per triangle, the colour index of each
+    /// corner.
+    pub colors: Option<(Vec<Vec3>, Vec<[u32; 3]>)>,
+    /// Authored tangents (glTF `TANGENT`: `xyz` and handedness `w`) and, per triangle, the
+    /// tangent index of each corner. Used only with the authored normals (they are a frame
+    /// around them); otherwise tangents are computed from the uvs.
+    pub tangents: Option<(Vec<Vec4>, Vec<[u32; 3]>)>,
     /// Per triangle smoothing group (0 = off), or `None` when the source had no `s` lines.
     pub smoothing_groups: Option<Vec<u32>>,
     /// Per triangle material id (empty = all 0).
@@ -37,45 +44,32 @@ pub struct TriangleSoup {
 }
 
 impl TriangleSoup {
-    /// Drops triangles with an index out of range (so `build` never panics on hand-made soups).
+    /// Drops triangles with an index out of range (so `build` never panics on hand-made soups);
+    /// a per-corner attribute whose index list is not one per triangle is dropped.
     fn sanitized(&self) -> TriangleSoup {
         let np = self.positions.len() as u32;
-        let nuv = self.uvs.as_ref().map_or(0, |u| u.0.len() as u32);
-        let nn = self.normals.as_ref().map_or(0, |n| n.0.len() as u32);
         let t = self.triangles.len();
-        let uv_ok = self.uvs.as_ref().is_some_and(|u| u.1.len() == t);
-        let n_ok = self.normals.as_ref().is_some_and(|n| n.1.len() == t);
-        let mut keep = Vec::with_capacity(t);
-        for (i, tri) in self.triangles.iter().enumerate() {
-            let ok = tri.iter().all(|&v| v < np)
-                && (!uv_ok
-                    || self
-                        .uvs
-                        .as_ref()
-                        .is_some_and(|u| u.1[i].iter().all(|&v| v < nuv)))
-                && (!n_ok
-                    || self
-                        .normals
-                        .as_ref()
-                        .is_some_and(|n| n.1[i].iter().all(|&v| v < nn)));
-            if ok {
-                keep.push(i);
-            }
-        }
+        let uvs = Attribute::new(&self.uvs, t);
+        let normals = Attribute::new(&self.normals, t);
+        let colors = Attribute::new(&self.colors, t);
+        let tangents = Attribute::new(&self.tangents, t);
+        let keep: Vec<usize> = (0..t)
+            .filter(|&i| {
+                self.triangles[i].iter().all(|&v| v < np)
+                    && uvs.in_range(i)
+                    && normals.in_range(i)
+                    && colors.in_range(i)
+                    && tangents.in_range(i)
+            })
+            .collect();
         let pick = |v: &Vec<[u32; 3]>| keep.iter().map(|&i| v[i]).collect::<Vec<_>>();
         TriangleSoup {
             positions: self.positions.clone(),
             triangles: pick(&self.triangles),
-            uvs: self
-                .uvs
-                .as_ref()
-                .filter(|_| uv_ok)
-                .map(|(u, ix)| (u.clone(), pick(ix))),
-            normals: self
-                .normals
-                .as_ref()
-                .filter(|_| n_ok)
-                .map(|(n, ix)| (n.clone(), pick(ix))),
+            uvs: uvs.pick(&keep),
+            normals: normals.pick(&keep),
+            colors: colors.pick(&keep),
+            tangents: tangents.pick(&keep),
             smoothing_groups: self
                 .smoothing_groups
                 .as_ref()
@@ -95,7 +89,8 @@ impl TriangleSoup {
     }
 
     /// Builds the mesh: vertex normals per `opts` (see [`crate::normals`]), vertices split where
-    /// surfaces, normals or uvs differ, surface ids, and tangents where uvs exist.
+    /// surfaces, normals, uvs, colours or authored tangents differ, surface ids, and tangents
+    /// (the authored ones with authored normals, else MikkTSpace's where uvs exist).
     /// Non-finite positions are not expected (the loader rejects them); triangles with an
     /// index out of range are dropped.
     #[must_use]
@@ -139,21 +134,45 @@ impl TriangleSoup {
             ),
         };
 
-        // One vertex per distinct (position, surface, normal, uv).
-        let mut map: HashMap<(u32, u32, [u32; 3], u32), u32> = HashMap::new();
+        let tangents = soup
+            .tangents
+            .as_ref()
+            .filter(|_| authored.is_some() && soup.uvs.is_some());
+        // One vertex per distinct (position, surface, normal, uv, colour, tangent).
+        let mut map: HashMap<VertexKey, u32> = HashMap::new();
         let mut mesh = Mesh::default();
         let mut uvs_out = soup.uvs.as_ref().map(|_| Vec::new());
+        let mut colors_out = soup.colors.as_ref().map(|_| Vec::new());
+        let mut tangents_out = tangents.map(|_| Vec::new());
         for (ti, tri) in tris.iter().enumerate() {
             let mut out = [0u32; 3];
             for k in 0..3 {
                 let n = corner_normal[ti * 3 + k];
                 let uv = soup.uvs.as_ref().map_or(u32::MAX, |(_, ix)| ix[ti][k]);
-                let key = (tri[k], surfaces[ti], n.to_array().map(f32::to_bits), uv);
+                let color = soup
+                    .colors
+                    .as_ref()
+                    .map_or(Vec3::NAN, |(c, ix)| c[ix[ti][k] as usize]);
+                let tangent = tangents.map_or(u32::MAX, |(_, ix)| ix[ti][k]);
+                let key = VertexKey {
+                    position: tri[k],
+                    surface: surfaces[ti],
+                    normal: n.to_array().map(f32::to_bits),
+                    uv,
+                    color: color.to_array().map(f32::to_bits),
+                    tangent,
+                };
                 out[k] = *map.entry(key).or_insert_with(|| {
                     mesh.positions.push(soup.positions[tri[k] as usize]);
                     mesh.normals.push(n);
                     if let (Some(dst), Some((src, _))) = (uvs_out.as_mut(), soup.uvs.as_ref()) {
                         dst.push(src[uv as usize]);
+                    }
+                    if let Some(dst) = colors_out.as_mut() {
+                        dst.push(color);
+                    }
+                    if let (Some(dst), Some((src, _))) = (tangents_out.as_mut(), tangents) {
+                        dst.push(authored_tangent(src[tangent as usize], n));
                     }
                     (mesh.positions.len() - 1) as u32
                 });
@@ -161,19 +180,75 @@ impl TriangleSoup {
             mesh.indices.push(out);
         }
         mesh.uvs = uvs_out;
+        mesh.colors = colors_out;
+        mesh.tangents = tangents_out;
         mesh.surface_ids = surfaces;
         mesh.material_ids = soup.material_ids.clone();
         mesh.smoothing_groups = groups;
-        if mesh.uvs.is_some() {
+        if mesh.uvs.is_some() && mesh.tangents.is_none() {
             mesh.compute_tangents();
         }
         mesh
     }
 }
 
+/// What makes a vertex distinct when the soup is split into vertices.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+struct VertexKey {
+    position: u32,
+    surface: u32,
+    normal: [u32; 3],
+    /// Index into the soup's uvs (`u32::MAX`: none).
+    uv: u32,
+    /// The colour's bits (NaN: none): a colour given per corner (glTF) or per model (OBJ)
+    /// splits a vertex only where the values differ.
+    color: [u32; 3],
+    /// Index into the soup's authored tangents (`u32::MAX`: none).
+    tangent: u32,
+}
+
+/// An authored tangent as the mesh keeps it: `xyz` unit, `w` +1 or -1 (negative `w` is -1);
+/// one that is zero or not finite is replaced by [`crate::fallback_tangent`] of `normal`.
+fn authored_tangent(t: Vec4, normal: Vec3) -> Vec4 {
+    let xyz = t.truncate();
+    let len = xyz.length();
+    if !(len > 1e-12 && len.is_finite() && t.w.is_finite()) {
+        return crate::tangents::fallback_tangent(normal);
+    }
+    let w = if t.w < 0.0 { -1.0 } else { 1.0 };
+    phosphor_math::safe_normalize(xyz / len, Vec3::X).extend(w)
+}
+
+/// A per-corner attribute of a soup while it is sanitized.
+struct Attribute<'a, T> {
+    /// The values and their per-triangle indices, when the indices are one per triangle.
+    data: Option<&'a (Vec<T>, Vec<[u32; 3]>)>,
+}
+
+impl<'a, T: Clone> Attribute<'a, T> {
+    fn new(data: &'a Option<(Vec<T>, Vec<[u32; 3]>)>, triangles: usize) -> Self {
+        Attribute {
+            data: data.as_ref().filter(|(_, ix)| ix.len() == triangles),
+        }
+    }
+
+    /// Whether triangle `t`'s corners index existing values (true when there are none).
+    fn in_range(&self, t: usize) -> bool {
+        self.data
+            .is_none_or(|(v, ix)| ix[t].iter().all(|&i| (i as usize) < v.len()))
+    }
+
+    /// The attribute for the kept triangles.
+    fn pick(&self, keep: &[usize]) -> Option<(Vec<T>, Vec<[u32; 3]>)> {
+        self.data
+            .map(|(v, ix)| (v.clone(), keep.iter().map(|&i| ix[i]).collect()))
+    }
+}
+
 impl Mesh {
     /// The mesh as a soup with positions welded by exact equality (`-0.0 == 0.0`), keeping
-    /// uvs, smoothing groups and material ids, without normals: the input to recompute normals.
+    /// uvs, colours, smoothing groups and material ids, without normals (nor tangents, a frame
+    /// around them): the input to recompute normals.
     #[must_use]
     pub fn to_soup(&self) -> TriangleSoup {
         let mut weld: HashMap<[u32; 3], u32> = HashMap::new();
@@ -204,7 +279,13 @@ impl Mesh {
                 .clone()
                 .filter(|u| u.len() == self.positions.len())
                 .map(|u| (u, valid.clone())),
+            colors: self
+                .colors
+                .clone()
+                .filter(|c| c.len() == self.positions.len())
+                .map(|c| (c, valid.clone())),
             normals: None,
+            tangents: None,
             smoothing_groups: (self.smoothing_groups.len() == t
                 && self.smoothing_groups.iter().any(|&g| g != 0))
             .then(|| self.smoothing_groups.clone()),
@@ -230,6 +311,14 @@ impl Mesh {
         m.groups = self.groups.clone();
         m
     }
+}
+
+/// A colour as the mesh keeps it: each component clamped to `[0, 1]` (NaN becomes 0).
+pub(crate) fn unit_color(c: Vec3) -> Vec3 {
+    Vec3::from_array(
+        c.to_array()
+            .map(|x| if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) }),
+    )
 }
 
 /// Bit pattern of a position for welding; `-0.0` and `0.0` weld together.

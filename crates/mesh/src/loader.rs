@@ -6,7 +6,8 @@
 //! `o`/`g`/`usemtl` model; docs/conventions.md, "Dependency facts"), so faces on both sides of a
 //! group or material boundary share a position and may be smoothed together when the rule allows
 //! it. Texture coordinates are kept only when every polygon corner names a `vt`, authored normals
-//! only when every corner names a `vn` (otherwise normals are computed).
+//! only when every corner names a `vn` (otherwise normals are computed). Vertex colours
+//! (`v x y z r g b`, on every `v` line or none) are taken as linear RGB, clamped to `[0, 1]`.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -15,7 +16,7 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 
-use crate::build::{TriangleSoup, weld_key};
+use crate::build::{TriangleSoup, unit_color, weld_key};
 use crate::error::MeshError;
 use crate::mesh::{Mesh, MtlMaterial};
 use crate::normals::{NormalOptions, NormalSource};
@@ -296,6 +297,8 @@ fn assemble(
     let mut weld: HashMap<[u32; 3], u32> = HashMap::new();
     let (mut uvs, mut uv_ix) = (Vec::new(), Vec::new());
     let (mut vns, mut vn_ix) = (Vec::new(), Vec::new());
+    let (mut colors, mut color_ix) = (Vec::new(), Vec::new());
+    let mut use_color = scanned.has_vertex_colors;
     let mut use_uv = scanned.all_corners_have_uv;
     let mut use_vn = scanned.all_corners_have_normal;
     let mut groups = Vec::new();
@@ -309,6 +312,14 @@ fn assemble(
         };
         use_uv &= m.texcoord_indices.len() == m.indices.len();
         use_vn &= m.normal_indices.len() == m.indices.len();
+        // tobj gives one colour per position it emits for the model, in the same order.
+        use_color &= m.vertex_color.len() == m.positions.len();
+        let color_base = colors.len() as u32;
+        colors.extend(
+            m.vertex_color
+                .chunks_exact(3)
+                .map(|c| unit_color(Vec3::new(c[0], c[1], c[2]))),
+        );
         let (uv_base, vn_base) = (uvs.len() as u32, vns.len() as u32);
         uvs.extend(m.texcoords.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])));
         vns.extend(
@@ -352,6 +363,7 @@ fn assemble(
                     |v: &Vec<u32>, base: u32, k: usize| v.get(start + k).map_or(0, |&i| base + i);
                 uv_ix.push(t.map(|k| at(&m.texcoord_indices, uv_base, k)));
                 vn_ix.push(t.map(|k| at(&m.normal_indices, vn_base, k)));
+                color_ix.push(t.map(|k| color_base + corners[k]));
                 groups.push(info.group);
                 soup.material_ids.push(material);
                 soup.polygon_ids.push(face as u32);
@@ -368,6 +380,9 @@ fn assemble(
     }
     if use_uv && !uvs.is_empty() {
         soup.uvs = Some((uvs, uv_ix));
+    }
+    if use_color && !colors.is_empty() {
+        soup.colors = Some((colors, color_ix));
     }
     if use_vn && !vns.is_empty() {
         soup.normals = Some((vns, vn_ix));

@@ -35,8 +35,8 @@ impl Default for MtlMaterial {
 /// An indexed triangle mesh.
 ///
 /// Invariants kept by every constructor in this crate: `normals` has one unit, finite entry per
-/// position; `uvs` and `tangents`, when present, have one entry per position; every index is in
-/// range; `surface_ids`, `material_ids` and `smoothing_groups` have one entry per triangle.
+/// position; `uvs`, `colors` and `tangents`, when present, have one entry per position; every
+/// index is in range; `surface_ids`, `material_ids` and `smoothing_groups` have one entry per triangle.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
     /// One per vertex (vertices are split where surfaces meet).
@@ -45,6 +45,9 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     /// Texture coordinates, same length as `positions` when present.
     pub uvs: Option<Vec<Vec2>>,
+    /// Vertex colours, linear RGB in `[0, 1]`, same length as `positions` when present (PLY
+    /// `red green blue`, glTF `COLOR_0`, OBJ `v x y z r g b`; docs/mesh-formats.md).
+    pub colors: Option<Vec<Vec3>>,
     /// `xyz` unit tangent (perpendicular to the normal), `w` = handedness (+1/-1) so that
     /// `bitangent = w * normal.cross(tangent)`; same length as `positions` when present.
     pub tangents: Option<Vec<Vec4>>,
@@ -137,7 +140,7 @@ impl Mesh {
     }
 
     /// True when every invariant in the type docs holds (lengths, index ranges, unit finite
-    /// normals and tangents). Used by the tests; cheap enough for debug assertions.
+    /// normals and tangents, colours in `[0, 1]`). Used by the tests; cheap enough for debug assertions.
     #[must_use]
     pub fn is_consistent(&self) -> bool {
         let n = self.positions.len();
@@ -148,6 +151,11 @@ impl Mesh {
                 .uvs
                 .as_ref()
                 .is_none_or(|u| u.len() == n && u.iter().all(|x| x.is_finite()))
+            && self.colors.as_ref().is_none_or(|c| {
+                c.len() == n
+                    && c.iter()
+                        .all(|x| x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all())
+            })
             && self.tangents.as_ref().is_none_or(|ts| {
                 ts.len() == n && ts.iter().all(|x| unit(x.truncate()) && x.w.abs() == 1.0)
             })

@@ -247,6 +247,9 @@ impl Mesh {
         if let Some(uvs) = &mut self.uvs {
             push_copy(uvs, v);
         }
+        if let Some(colors) = &mut self.colors {
+            push_copy(colors, v);
+        }
         (self.positions.len() - 1) as u32
     }
 }

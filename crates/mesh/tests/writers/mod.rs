@@ -73,9 +73,28 @@ pub enum Ply {
     Big,
 }
 
+/// How a PLY file stores vertex colours.
+#[derive(Clone, Copy, Debug)]
+pub enum PlyColor {
+    /// `uchar red green blue alpha`, 0 to 255 (alpha 255).
+    UChar,
+    /// `float red green blue`, 0 to 1.
+    Float,
+}
+
 /// A PLY file of `shape`, with `normals` per vertex when given. The vertex element carries an
 /// extra `confidence` float and the file an `edge` element, both to be read past.
 pub fn ply(shape: &Shape, normals: Option<&[Vec3]>, encoding: Ply) -> Vec<u8> {
+    ply_with(shape, normals, None, encoding)
+}
+
+/// [`ply`] with vertex colours when given.
+pub fn ply_with(
+    shape: &Shape,
+    normals: Option<&[Vec3]>,
+    colors: Option<(&[Vec3], PlyColor)>,
+    encoding: Ply,
+) -> Vec<u8> {
     let format = match encoding {
         Ply::Ascii => "ascii",
         Ply::Little => "binary_little_endian",
@@ -88,6 +107,16 @@ pub fn ply(shape: &Shape, normals: Option<&[Vec3]>, encoding: Ply) -> Vec<u8> {
     );
     if normals.is_some() {
         header += "property float nx\nproperty float ny\nproperty float nz\n";
+    }
+    match colors {
+        Some((_, PlyColor::UChar)) => {
+            header += "property uchar red\nproperty uchar green\nproperty uchar blue\n\
+                       property uchar alpha\n";
+        }
+        Some((_, PlyColor::Float)) => {
+            header += "property float red\nproperty float green\nproperty float blue\n";
+        }
+        None => {}
     }
     header += &format!(
         "property float confidence\nelement face {}\nproperty list uchar int vertex_indices\n\
@@ -122,6 +151,19 @@ pub fn ply(shape: &Shape, normals: Option<&[Vec3]>, encoding: Ply) -> Vec<u8> {
         f32s(&mut out, &p.to_array());
         if let Some(n) = normals {
             f32s(&mut out, &n[i].to_array());
+        }
+        match colors {
+            Some((c, PlyColor::UChar)) => {
+                let bytes = (c[i] * 255.0).round().to_array().map(|x| x as u8);
+                for b in bytes.into_iter().chain([255]) {
+                    match encoding {
+                        Ply::Ascii => out.extend_from_slice(format!("{b} ").as_bytes()),
+                        _ => out.push(b),
+                    }
+                }
+            }
+            Some((c, PlyColor::Float)) => f32s(&mut out, &c[i].to_array()),
+            None => {}
         }
         f32s(&mut out, &[0.5]);
         end_line(&mut out);
@@ -198,11 +240,70 @@ pub fn base64(bytes: &[u8]) -> String {
     s
 }
 
-/// One glTF mesh: a shape's triangles, optional per-vertex normals, and a material index.
+/// One glTF mesh: a shape's triangles, optional per-vertex normals, more vertex attributes,
+/// and a material index.
 pub struct GltfMesh<'a> {
     pub shape: &'a Shape,
     pub normals: Option<&'a [Vec3]>,
+    pub extras: &'a [GltfAttribute],
     pub material: Option<usize>,
+}
+
+/// A vertex attribute beyond `POSITION` and `NORMAL`: `COLOR_0`, `TEXCOORD_0`, `TANGENT`.
+pub struct GltfAttribute {
+    pub semantic: &'static str,
+    /// `VEC2`, `VEC3`, `VEC4`.
+    pub kind: &'static str,
+    pub component_type: u32,
+    pub normalized: bool,
+    pub count: usize,
+    pub bytes: Vec<u8>,
+}
+
+impl GltfAttribute {
+    /// Float components, `width` per element (2, 3 or 4).
+    pub fn f32(semantic: &'static str, width: usize, values: &[f32]) -> GltfAttribute {
+        GltfAttribute {
+            semantic,
+            kind: ["", "", "VEC2", "VEC3", "VEC4"][width],
+            component_type: 5126,
+            normalized: false,
+            count: values.len() / width,
+            bytes: values.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        }
+    }
+
+    /// Normalized unsigned bytes, 4 per element (VEC4 keeps every element 4-byte aligned).
+    pub fn u8_vec4(semantic: &'static str, values: &[[u8; 4]]) -> GltfAttribute {
+        GltfAttribute {
+            semantic,
+            kind: "VEC4",
+            component_type: 5121,
+            normalized: true,
+            count: values.len(),
+            bytes: values.iter().flatten().copied().collect(),
+        }
+    }
+}
+
+/// A glTF image: a file next to the glTF, or bytes in a buffer view.
+pub enum GltfImage {
+    Uri(String),
+    View { mime: String, bytes: Vec<u8> },
+}
+
+/// A whole glTF document (see [`gltf`] for the common case). `materials`, `textures` and
+/// `samplers` are raw JSON objects; `materials` replaces the ones made from `base_colours`.
+pub struct GltfDoc<'a> {
+    pub meshes: &'a [GltfMesh<'a>],
+    pub node_extras: &'a [&'a str],
+    pub base_colours: &'a [[f32; 4]],
+    pub buffer: GltfBuffer,
+    pub materials: &'a [String],
+    pub textures: &'a [String],
+    pub samplers: &'a [String],
+    pub images: &'a [GltfImage],
+    pub extensions_used: &'a [&'a str],
 }
 
 /// Where a glTF's buffer lives.
@@ -222,6 +323,28 @@ pub fn gltf(
     base_colours: &[[f32; 4]],
     buffer: GltfBuffer,
 ) -> (Vec<u8>, Vec<u8>) {
+    gltf_doc(&GltfDoc {
+        meshes,
+        node_extras,
+        base_colours,
+        buffer,
+        materials: &[],
+        textures: &[],
+        samplers: &[],
+        images: &[],
+        extensions_used: &[],
+    })
+}
+
+/// The file's bytes and, for `External`, the buffer's bytes of `doc`.
+pub fn gltf_doc(doc: &GltfDoc<'_>) -> (Vec<u8>, Vec<u8>) {
+    let GltfDoc {
+        meshes,
+        node_extras,
+        base_colours,
+        buffer,
+        ..
+    } = *doc;
     let mut bin = Vec::new();
     let mut views = Vec::new();
     let mut accessors = Vec::new();
@@ -270,6 +393,15 @@ pub fn gltf(
             ));
             attributes += &format!(",\"NORMAL\":{}", accessors.len() - 1);
         }
+        for a in m.extras {
+            let view = add_view(&mut bin, &a.bytes, &mut views);
+            accessors.push(format!(
+                "{{\"bufferView\":{view},\"componentType\":{},\"normalized\":{},\"count\":{},\
+                 \"type\":\"{}\"}}",
+                a.component_type, a.normalized, a.count, a.kind
+            ));
+            attributes += &format!(",\"{}\":{}", a.semantic, accessors.len() - 1);
+        }
         let indices: Vec<u8> = m
             .shape
             .triangles()
@@ -292,6 +424,17 @@ pub fn gltf(
             accessors.len() - 1
         ));
     }
+    let images: Vec<String> = doc
+        .images
+        .iter()
+        .map(|image| match image {
+            GltfImage::Uri(uri) => format!("{{\"uri\":\"{uri}\"}}"),
+            GltfImage::View { mime, bytes } => {
+                let view = add_view(&mut bin, bytes, &mut views);
+                format!("{{\"bufferView\":{view},\"mimeType\":\"{mime}\"}}")
+            }
+        })
+        .collect();
     while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
@@ -302,7 +445,7 @@ pub fn gltf(
             format!("{{\"mesh\":{i}{sep}{extra}}}")
         })
         .collect();
-    let materials: Vec<String> = base_colours
+    let mut materials: Vec<String> = base_colours
         .iter()
         .enumerate()
         .map(|(i, c)| {
@@ -312,6 +455,27 @@ pub fn gltf(
             )
         })
         .collect();
+    if !doc.materials.is_empty() {
+        materials = doc.materials.to_vec();
+    }
+    let mut more = String::new();
+    for (key, list) in [
+        ("textures", doc.textures.to_vec()),
+        ("samplers", doc.samplers.to_vec()),
+        ("images", images),
+    ] {
+        if !list.is_empty() {
+            more += &format!(",\"{key}\":[{}]", list.join(","));
+        }
+    }
+    if !doc.extensions_used.is_empty() {
+        let names: Vec<String> = doc
+            .extensions_used
+            .iter()
+            .map(|e| format!("\"{e}\""))
+            .collect();
+        more += &format!(",\"extensionsUsed\":[{}]", names.join(","));
+    }
     let uri = match buffer {
         GltfBuffer::DataUri => format!(
             ",\"uri\":\"data:application/octet-stream;base64,{}\"",
@@ -324,7 +488,7 @@ pub fn gltf(
     let json = format!(
         "{{\"asset\":{{\"version\":\"2.0\"}},\"scene\":0,\"scenes\":[{{\"nodes\":[{}]}}],\
          \"nodes\":[{}],\"meshes\":[{}],\"materials\":[{}],\"accessors\":[{}],\
-         \"bufferViews\":[{}],\"buffers\":[{{\"byteLength\":{}{uri}}}]}}",
+         \"bufferViews\":[{}],\"buffers\":[{{\"byteLength\":{}{uri}}}]{more}}}",
         scene_nodes.join(","),
         nodes.join(","),
         json_meshes.join(","),
