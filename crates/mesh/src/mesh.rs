@@ -4,8 +4,10 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::normals::triangle_normal_f64;
+use crate::texture_ref::TextureRef;
 
-/// A material from an MTL file (the subset the illumination model uses).
+/// A material from an MTL file or a glTF material (the subset the illumination model uses),
+/// with the texture maps it names.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MtlMaterial {
     /// `newmtl` name.
@@ -18,6 +20,16 @@ pub struct MtlMaterial {
     pub ks: Vec3,
     /// Specular exponent `Ns` (default 1).
     pub ns: f32,
+    /// Diffuse (base colour) map: MTL `map_Kd`, glTF `baseColorTexture`; it multiplies `kd`.
+    pub kd_map: Option<TextureRef>,
+    /// Specular colour map: MTL `map_Ks`; it multiplies `ks`.
+    pub ks_map: Option<TextureRef>,
+    /// Tangent-space normal map (MikkTSpace, +Y up) and its scale (MTL `norm` with `-bm`,
+    /// glTF `normalTexture` with `scale`; 1 when not given).
+    pub normal_map: Option<(TextureRef, f32)>,
+    /// Statements and maps the file gives that Phosphor does not use (`d`, `map_d`, `bump`,
+    /// `refl`, ...), each once in order of appearance, for the caller to warn about once.
+    pub unused: Vec<String>,
 }
 
 impl Default for MtlMaterial {
@@ -28,6 +40,10 @@ impl Default for MtlMaterial {
             kd: Vec3::splat(0.8),
             ks: Vec3::ZERO,
             ns: 1.0,
+            kd_map: None,
+            ks_map: None,
+            normal_map: None,
+            unused: Vec::new(),
         }
     }
 }

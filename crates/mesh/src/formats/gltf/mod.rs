@@ -17,25 +17,29 @@
 //! inside the reader.
 
 use std::borrow::Cow;
+use std::collections::HashMap;
 
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::mesh::{Mode, Semantic};
 
 use super::{Welder, element_error, finish, one_line};
-use crate::build::{TriangleSoup, unit_color};
+use crate::build::TriangleSoup;
 use crate::error::MeshError;
 use crate::mesh::{Mesh, MtlMaterial};
 use crate::normals::NormalOptions;
 
 mod accessor;
+mod attributes;
 mod material;
+mod nodes;
 mod uri;
 
 use accessor::{
     COLOR_TYPES, INDEX_TYPES, TANGENT_TYPES, UV_TYPES, VEC3_F32, check_accessor,
     check_attribute_accessors,
 };
-use material::material;
+use material::{Textures, drop_bad_references, material};
+use nodes::placed_nodes;
 use uri::load_buffers;
 
 /// Parses a glTF or GLB file's bytes; `file` names it in messages, `read_relative` reads the
@@ -57,7 +61,19 @@ pub(super) fn parse(
     let unchecked = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| invalid(file, describe(&e)))?;
     check_attribute_accessors(unchecked.as_json(), file)?;
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| invalid(file, describe(&e)))?;
+    // Texture references out of range are dropped with a warning rather than failing the
+    // validation: the geometry is still good.
+    let gltf::Gltf { document, blob } = unchecked;
+    let mut root = document.into_json();
+    let mut warnings = Vec::new();
+    drop_bad_references(&mut root, file, &mut warnings);
+    for name in &root.extensions_used {
+        warnings.push(format!(
+            "{file}: extension {name} is not supported; ignored"
+        ));
+    }
+    let document = gltf::Document::from_json(root).map_err(|e| invalid(file, describe(&e)))?;
+    let gltf = gltf::Gltf { document, blob };
     let version = &gltf.as_json().asset.version;
     if !version.starts_with("2.") {
         return Err(invalid(
@@ -66,7 +82,6 @@ pub(super) fn parse(
         ));
     }
     let buffers = load_buffers(&gltf, file, read_relative)?;
-    let mut warnings = Vec::new();
     if gltf.skins().next().is_some() {
         warnings.push(format!(
             "{file}: skins are not applied; meshes are loaded in their bind pose"
@@ -88,7 +103,16 @@ pub(super) fn parse(
         }
     }
 
-    let materials: Vec<MtlMaterial> = gltf.materials().map(|m| material(&m)).collect();
+    let mut textures = Textures {
+        file,
+        gltf: &gltf,
+        buffers: &buffers,
+        embedded: HashMap::new(),
+    };
+    let materials: Vec<MtlMaterial> = gltf
+        .materials()
+        .map(|m| material(&m, &mut textures, &mut warnings))
+        .collect();
     let mut soup = out.soup;
     if !materials.is_empty() {
         // Primitives without a material use glTF's default one (base colour 1, 1, 1).
@@ -152,55 +176,6 @@ fn describe(e: &gltf::Error) -> String {
             one_line(&other.to_string())
         ),
     }
-}
-
-/// Every node of the scene to show, with its world transform (parents first).
-fn placed_nodes<'a>(
-    gltf: &'a gltf::Gltf,
-    file: &str,
-) -> Result<Vec<(gltf::Node<'a>, Mat4)>, MeshError> {
-    let roots: Vec<gltf::Node<'a>> = match gltf.default_scene().or_else(|| gltf.scenes().next()) {
-        Some(scene) => scene.nodes().collect(),
-        None => {
-            let mut is_child = vec![false; gltf.nodes().len()];
-            for n in gltf.nodes() {
-                for c in n.children() {
-                    is_child[c.index()] = true;
-                }
-            }
-            gltf.nodes().filter(|n| !is_child[n.index()]).collect()
-        }
-    };
-    let mut visited = vec![false; gltf.nodes().len()];
-    let mut stack: Vec<(gltf::Node<'a>, Mat4)> = roots
-        .into_iter()
-        .rev()
-        .map(|n| (n, Mat4::IDENTITY))
-        .collect();
-    let mut out = Vec::new();
-    while let Some((node, parent)) = stack.pop() {
-        let element = format!("nodes[{}]", node.index());
-        if std::mem::replace(&mut visited[node.index()], true) {
-            return Err(element_error(
-                file,
-                element,
-                "reached twice (a glTF node has at most one parent and no cycle)",
-            ));
-        }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if !world.is_finite() {
-            return Err(element_error(
-                file,
-                element,
-                "transform is not finite (NaN or overflow)",
-            ));
-        }
-        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
-            stack.push((child, world));
-        }
-        out.push((node, world));
-    }
-    Ok(out)
 }
 
 /// The corners of all primitives read so far, welded into one soup.
@@ -394,64 +369,6 @@ impl Assembly {
             self.gltf_materials.push(material);
         }
         Ok(())
-    }
-}
-
-impl Assembly {
-    /// Appends the primitive's `COLOR_0` as linear RGB in `[0, 1]` (normalized integers
-    /// divided by their maximum, alpha dropped), or one white entry when it has none; returns
-    /// whether it has colours.
-    fn read_colors<'a, 's, F>(
-        &mut self,
-        reader: &gltf::mesh::Reader<'a, 's, F>,
-        fail: &dyn Fn(String) -> MeshError,
-    ) -> Result<bool, MeshError>
-    where
-        F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
-    {
-        let Some(colors) = reader.read_colors(0) else {
-            self.colors.push(Vec3::ONE);
-            return Ok(false);
-        };
-        for (k, c) in colors.into_rgb_f32().enumerate() {
-            let c = Vec3::from_array(c);
-            if !c.is_finite() {
-                return Err(fail(format!("COLOR_0[{k}]: NaN or infinite value")));
-            }
-            self.colors.push(unit_color(c));
-        }
-        Ok(true)
-    }
-
-    /// Appends the primitive's `TANGENT`s turned by the node's `linear` transform (handedness
-    /// flipped by a mirroring one); returns whether it has them.
-    fn read_tangents<'a, 's, F>(
-        &mut self,
-        reader: &gltf::mesh::Reader<'a, 's, F>,
-        linear: Mat3,
-        fail: &dyn Fn(String) -> MeshError,
-    ) -> Result<bool, MeshError>
-    where
-        F: Clone + Fn(gltf::Buffer<'a>) -> Option<&'s [u8]>,
-    {
-        let Some(tangents) = reader.read_tangents() else {
-            return Ok(false);
-        };
-        let flip = if linear.determinant() < 0.0 {
-            -1.0
-        } else {
-            1.0
-        };
-        for (k, t) in tangents.enumerate() {
-            let t = Vec4::from_array(t);
-            if !t.is_finite() {
-                return Err(fail(format!("TANGENT[{k}]: NaN or infinite value")));
-            }
-            let xyz = linear * t.truncate();
-            let xyz = if xyz.is_finite() { xyz } else { t.truncate() };
-            self.tangents.push(xyz.extend(t.w * flip));
-        }
-        Ok(true)
     }
 }
 
