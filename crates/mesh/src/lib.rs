@@ -2,9 +2,14 @@
 //! scan for smoothing groups and line-numbered errors), PLY, STL and glTF 2.0 loading chosen by
 //! extension ([`load_mesh`]), face normals robust for slivers,
 //! vertex normals averaged only within a surface (the lecture notes' `N_v = sum N_k / |sum N_k|`),
-//! tangents, analytic primitives with exact normals, and a render order
+//! MikkTSpace tangents ([`tangents`]), analytic primitives with exact normals, and a render order
 //! ([`Mesh::sort_spatially`]: triangles along a Morton curve, so neighbours in memory are
 //! neighbours in space). Knows nothing of light or pixels.
+//!
+//! Vertex colours (PLY `red green blue`, glTF `COLOR_0`, OBJ `v x y z r g b`) arrive in
+//! [`Mesh::colors`] as linear RGB. Texture maps arrive as references in each [`MtlMaterial`]
+//! (`kd_map`, `ks_map`, `normal_map`): a [`TextureRef`] names a file or holds the encoded bytes
+//! embedded in a glTF, with its [`Wrap`]s; this crate decodes no image.
 //!
 //! ```
 //! use phosphor_mesh::{parse_obj, primitives, NormalOptions};

@@ -231,6 +231,23 @@ fn clip(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn any_text_scans_without_panicking(
+            lines in proptest::collection::vec(
+                "(newmtl a|map_Kd|map_Ks|norm|-clamp|-bm|-o|-s|-mm|on|off|1|x|t.png| |\t)*",
+                0..8,
+            )
+        ) {
+            let text = lines.join("\n");
+            let mut warnings = Vec::new();
+            let maps = scan(&text, "p.mtl", Path::new(""), &mut warnings);
+            prop_assert!(maps.len() <= lines.len());
+            prop_assert_eq!(for_tobj(&text).lines().count(), text.lines().count());
+        }
+    }
 
     fn one(text: &str) -> (MaterialMaps, Vec<String>) {
         let mut warnings = Vec::new();

@@ -88,7 +88,8 @@ fn mtl_text_maps_resolve_against_the_obj_name_and_mtllib() {
 
 #[test]
 fn bad_mtl_map_lines_are_warnings_and_the_colours_survive() {
-    let mtl = "newmtl a\nKd 0.25 0.5 1\nmap_Kd -clamp sometimes t.png\nmap_Ks\nnorm -bm x n.png\n";
+    let mtl = "newmtl a\nKd 0.25 0.5 1\nmap_Kd -clamp sometimes t.png\nmap_Ks\nnorm -bm x n.png\n\
+               map_Kd   \n";
     let obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
     let (m, warnings) = parse_obj_with_warnings(obj, "m.obj", Some(mtl), &NormalOptions::default())
         .expect("parses");
@@ -105,10 +106,11 @@ fn bad_mtl_map_lines_are_warnings_and_the_colours_survive() {
         a.normal_map.as_ref().map(|(t, s)| (t.written.as_str(), *s)),
         Some(("n.png", 1.0))
     );
-    assert_eq!(warnings.len(), 3, "{warnings:?}");
+    assert_eq!(warnings.len(), 4, "{warnings:?}");
     assert!(warnings[0].starts_with("m.mtl:3: map_Kd: -clamp expects on or off"));
     assert!(warnings[1].starts_with("m.mtl:4: map_Ks: no file name"));
     assert!(warnings[2].starts_with("m.mtl:5: norm: -bm expects a number"));
+    assert!(warnings[3].starts_with("m.mtl:6: map_Kd: no file name"));
 }
 
 /// A unit quad in z = 0 facing +Z, with uvs, normals and tangents.
