@@ -2,9 +2,14 @@
 //! scan for smoothing groups and line-numbered errors), PLY, STL and glTF 2.0 loading chosen by
 //! extension ([`load_mesh`]), face normals robust for slivers,
 //! vertex normals averaged only within a surface (the lecture notes' `N_v = sum N_k / |sum N_k|`),
-//! tangents, analytic primitives with exact normals, and a render order
+//! MikkTSpace tangents ([`tangents`]), analytic primitives with exact normals, and a render order
 //! ([`Mesh::sort_spatially`]: triangles along a Morton curve, so neighbours in memory are
 //! neighbours in space). Knows nothing of light or pixels.
+//!
+//! Vertex colours (PLY `red green blue`, glTF `COLOR_0`, OBJ `v x y z r g b`) arrive in
+//! [`Mesh::colors`] as linear RGB. Texture maps arrive as references in each [`MtlMaterial`]
+//! (`kd_map`, `ks_map`, `normal_map`): a [`TextureRef`] names a file or holds the encoded bytes
+//! embedded in a glTF, with its [`Wrap`]s; this crate decodes no image.
 //!
 //! ```
 //! use phosphor_mesh::{parse_obj, primitives, NormalOptions};
@@ -102,12 +107,14 @@ pub mod error;
 mod formats;
 mod loader;
 pub mod mesh;
+mod mtl;
 pub mod normals;
 mod order;
 pub mod primitives;
 mod scan;
 pub mod stats;
 pub mod tangents;
+pub mod texture_ref;
 pub mod topology;
 pub mod triangulate;
 
@@ -118,7 +125,9 @@ pub use loader::{
     MAX_MTL_BYTES, MAX_WARNING_CHARS, load_obj, load_obj_with_warnings, parse_obj,
     parse_obj_with_warnings,
 };
-pub use mesh::{Mesh, MtlMaterial, fallback_tangent};
+pub use mesh::{Mesh, MtlMaterial};
 pub use normals::{NormalOptions, NormalSource, Weighting, triangle_normal_f64};
 pub use stats::MeshStats;
+pub use tangents::fallback_tangent;
+pub use texture_ref::{TextureRef, TextureSource, Wrap};
 pub use topology::is_closed_solid;

@@ -20,7 +20,9 @@
 //! ```
 //!
 //! All primitives are centred on the origin, counter-clockwise seen from outside. Sphere,
-//! cylinder, torus, plane and cube carry uvs and tangents.
+//! cylinder, torus, plane and cube carry uvs and tangents; the tangents are the uv gradient,
+//! which on these smooth parametrisations agrees with MikkTSpace (what [`crate::tangents`]
+//! computes for meshes from files) to within the tessellation, in memory the footprint counts.
 
 use std::collections::TryReserveError;
 use std::f64::consts::{PI, TAU};
@@ -297,9 +299,9 @@ impl Builder {
     fn finish(mut self) -> Result<Mesh, TryReserveError> {
         let m = &mut self.mesh;
         m.tangents = Some(if self.fallible {
-            tangents::try_compute(&m.positions, &m.normals, &self.uvs, &m.indices)?
+            tangents::try_gradient_tangents(&m.positions, &m.normals, &self.uvs, &m.indices)?
         } else {
-            tangents::compute(&m.positions, &m.normals, &self.uvs, &m.indices)
+            tangents::gradient_tangents(&m.positions, &m.normals, &self.uvs, &m.indices)
         });
         m.uvs = Some(self.uvs);
         Ok(self.mesh)

@@ -35,6 +35,8 @@ pub(crate) struct Scan {
     pub has_mtllib: bool,
     /// `f` statements with fewer than 3 corners, which tobj drops: (line, corners).
     pub short_faces: Vec<(usize, usize)>,
+    /// Every `v` line has a colour (`v x y z r g b`); the scan refuses colours on some only.
+    pub has_vertex_colors: bool,
 }
 
 struct Counts {
@@ -281,6 +283,7 @@ pub(crate) fn scan(text: &str, file: &str) -> Result<Scan, MeshError> {
             _ => {}
         }
     }
+    out.has_vertex_colors = counts.colored == Some(true);
     if out.faces.is_empty() {
         out.all_corners_have_uv = false;
         out.all_corners_have_normal = false;

@@ -43,6 +43,7 @@ fn cube_gltf(buffer: GltfBuffer) -> (Vec<u8>, Vec<u8>) {
     let mesh = GltfMesh {
         shape: &cube,
         normals: None,
+        extras: &[],
         material: None,
     };
     writers::gltf(&[mesh], &[], &[], buffer)

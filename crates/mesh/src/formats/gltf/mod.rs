@@ -3,8 +3,12 @@
 //! What is read: the default scene (else the first, else every node that is no one's child),
 //! each node's mesh placed by its world transform, primitives of triangle modes (lists, strips
 //! and fans; points and lines are skipped with a warning, as OBJ lines are), `POSITION`,
-//! `NORMAL`, `TEXCOORD_0`, indices, and each material's base colour factor as the diffuse
-//! reflectance `kd` (textures, metallic-roughness, skins and morph targets are not used).
+//! `NORMAL`, `TEXCOORD_0`, `COLOR_0` (float, or normalized unsigned byte or short; VEC3 or VEC4,
+//! alpha dropped; already linear; white on primitives without it when another has it),
+//! `TANGENT` (kept as authored when every primitive has it along with `NORMAL` and
+//! `TEXCOORD_0` and the normals are the authored ones), indices, and the materials (see
+//! [`material`]: base colour factor and texture, normal texture; metallic-roughness, skins and
+//! morph targets are not used).
 //! Buffers come from the GLB's binary chunk, `data:` URIs, or files relative to the glTF;
 //! nothing is fetched from a network.
 //!
@@ -13,10 +17,9 @@
 //! inside the reader.
 
 use std::borrow::Cow;
+use std::collections::HashMap;
 
-use glam::{Mat3, Mat4, Vec2, Vec3};
-use gltf::accessor::{DataType, Dimensions};
-use gltf::buffer::Source;
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use gltf::mesh::{Mode, Semantic};
 
 use super::{Welder, element_error, finish, one_line};
@@ -24,6 +27,20 @@ use crate::build::TriangleSoup;
 use crate::error::MeshError;
 use crate::mesh::{Mesh, MtlMaterial};
 use crate::normals::NormalOptions;
+
+mod accessor;
+mod attributes;
+mod material;
+mod nodes;
+mod uri;
+
+use accessor::{
+    COLOR_TYPES, INDEX_TYPES, TANGENT_TYPES, UV_TYPES, VEC3_F32, check_accessor,
+    check_attribute_accessors,
+};
+use material::{Textures, drop_bad_references, material};
+use nodes::placed_nodes;
+use uri::load_buffers;
 
 /// Parses a glTF or GLB file's bytes; `file` names it in messages, `read_relative` reads the
 /// buffers it names by relative path.
@@ -44,7 +61,19 @@ pub(super) fn parse(
     let unchecked = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| invalid(file, describe(&e)))?;
     check_attribute_accessors(unchecked.as_json(), file)?;
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| invalid(file, describe(&e)))?;
+    // Texture references out of range are dropped with a warning rather than failing the
+    // validation: the geometry is still good.
+    let gltf::Gltf { document, blob } = unchecked;
+    let mut root = document.into_json();
+    let mut warnings = Vec::new();
+    drop_bad_references(&mut root, file, &mut warnings);
+    for name in &root.extensions_used {
+        warnings.push(format!(
+            "{file}: extension {name} is not supported; ignored"
+        ));
+    }
+    let document = gltf::Document::from_json(root).map_err(|e| invalid(file, describe(&e)))?;
+    let gltf = gltf::Gltf { document, blob };
     let version = &gltf.as_json().asset.version;
     if !version.starts_with("2.") {
         return Err(invalid(
@@ -53,7 +82,6 @@ pub(super) fn parse(
         ));
     }
     let buffers = load_buffers(&gltf, file, read_relative)?;
-    let mut warnings = Vec::new();
     if gltf.skins().next().is_some() {
         warnings.push(format!(
             "{file}: skins are not applied; meshes are loaded in their bind pose"
@@ -75,7 +103,16 @@ pub(super) fn parse(
         }
     }
 
-    let materials: Vec<MtlMaterial> = gltf.materials().map(|m| material(&m)).collect();
+    let mut textures = Textures {
+        file,
+        gltf: &gltf,
+        buffers: &buffers,
+        embedded: HashMap::new(),
+    };
+    let materials: Vec<MtlMaterial> = gltf
+        .materials()
+        .map(|m| material(&m, &mut textures, &mut warnings))
+        .collect();
     let mut soup = out.soup;
     if !materials.is_empty() {
         // Primitives without a material use glTF's default one (base colour 1, 1, 1).
@@ -89,6 +126,13 @@ pub(super) fn parse(
     }
     if out.all_uvs {
         soup.uvs = Some((out.uvs, out.uv_ix));
+    }
+    if out.any_colors {
+        soup.colors = Some((out.colors, out.color_ix));
+    }
+    if out.all_tangents {
+        // Used by the build only with the authored normals (and uvs) they are a frame around.
+        soup.tangents = Some((out.tangents, out.tangent_ix));
     }
     let mut mesh = finish(soup, file, opts)?;
     mesh.materials = materials;
@@ -111,31 +155,6 @@ fn invalid(file: &str, what: impl Into<String>) -> MeshError {
 }
 
 /// The crate's error on one line; validation errors name their JSON paths (the first few).
-/// Every vertex attribute of every primitive names an accessor that exists.
-fn check_attribute_accessors(root: &gltf::json::Root, file: &str) -> Result<(), MeshError> {
-    let count = root.accessors.len();
-    for (m, mesh) in root.meshes.iter().enumerate() {
-        for (p, primitive) in mesh.primitives.iter().enumerate() {
-            for (semantic, index) in &primitive.attributes {
-                if index.value() >= count {
-                    let name = match semantic {
-                        gltf::json::validation::Checked::Valid(s) => s.to_string(),
-                        gltf::json::validation::Checked::Invalid => "?".to_owned(),
-                    };
-                    return Err(invalid(
-                        file,
-                        format!(
-                            "invalid glTF: meshes[{m}].primitives[{p}].attributes.{name}: accessor {} does not exist ({count} accessors)",
-                            index.value()
-                        ),
-                    ));
-                }
-            }
-        }
-    }
-    Ok(())
-}
-
 fn describe(e: &gltf::Error) -> String {
     match e {
         gltf::Error::Validation(list) => {
@@ -159,189 +178,6 @@ fn describe(e: &gltf::Error) -> String {
     }
 }
 
-/// The MTL-style material of a glTF material: its base colour factor as `kd` (glTF's factors
-/// are linear, as MTL's are), other terms at the MTL defaults.
-fn material(m: &gltf::Material<'_>) -> MtlMaterial {
-    let [r, g, b, _alpha] = m.pbr_metallic_roughness().base_color_factor();
-    let kd = Vec3::new(r, g, b);
-    let d = MtlMaterial::default();
-    MtlMaterial {
-        name: m.name().map_or_else(
-            || format!("material {}", m.index().unwrap_or_default()),
-            str::to_owned,
-        ),
-        kd: if kd.is_finite() && kd.min_element() >= 0.0 {
-            kd
-        } else {
-            d.kd
-        },
-        ..d
-    }
-}
-
-/// The bytes of every buffer, each at least as long as the file declares.
-fn load_buffers<'a>(
-    gltf: &'a gltf::Gltf,
-    file: &str,
-    read_relative: &dyn Fn(&str) -> std::io::Result<Vec<u8>>,
-) -> Result<Vec<Cow<'a, [u8]>>, MeshError> {
-    let mut out = Vec::new();
-    for buffer in gltf.buffers() {
-        let element = format!("buffers[{}]", buffer.index());
-        let data: Cow<'a, [u8]> = match buffer.source() {
-            Source::Bin => Cow::Borrowed(gltf.blob.as_deref().ok_or_else(|| {
-                element_error(
-                    file,
-                    &element,
-                    "refers to a GLB binary chunk the file lacks",
-                )
-            })?),
-            Source::Uri(uri) => Cow::Owned(
-                uri_bytes(uri, read_relative).map_err(|w| element_error(file, &element, w))?,
-            ),
-        };
-        if data.len() < buffer.length() {
-            return Err(element_error(
-                file,
-                &element,
-                format!(
-                    "truncated: {} bytes, the file declares {}",
-                    data.len(),
-                    buffer.length()
-                ),
-            ));
-        }
-        out.push(data);
-    }
-    Ok(out)
-}
-
-/// A buffer's bytes from its URI: a base64 `data:` URI, or a file relative to the glTF.
-fn uri_bytes(
-    uri: &str,
-    read_relative: &dyn Fn(&str) -> std::io::Result<Vec<u8>>,
-) -> Result<Vec<u8>, String> {
-    if let Some(data) = uri.strip_prefix("data:") {
-        let (meta, payload) = data
-            .split_once(',')
-            .ok_or_else(|| "data URI without a comma".to_owned())?;
-        if !meta.ends_with(";base64") {
-            return Err("data URI is not base64".to_owned());
-        }
-        return base64_decode(payload).ok_or_else(|| "data URI: malformed base64".to_owned());
-    }
-    // A scheme (`http:`, `file:`) or an absolute path is not a relative reference: refused
-    // rather than fetched.
-    let scheme = uri.split_once(':').is_some_and(|(s, _)| {
-        !s.is_empty()
-            && s.chars()
-                .all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))
-    });
-    if scheme || uri.starts_with('/') || uri.starts_with('\\') {
-        return Err(format!(
-            "uri '{uri}' is not a relative file; only relative files, data: URIs and the \
-             GLB binary chunk are read"
-        ));
-    }
-    let path = percent_decode(uri).ok_or_else(|| format!("uri '{uri}': malformed %-escape"))?;
-    read_relative(&path).map_err(|e| format!("cannot read '{path}': {e}"))
-}
-
-/// Standard base64 (RFC 4648), padding optional; `None` on any other character.
-fn base64_decode(text: &str) -> Option<Vec<u8>> {
-    let value = |c: u8| -> Option<u32> {
-        Some(match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => return None,
-        } as u32)
-    };
-    let digits = text.trim_end_matches('=').as_bytes();
-    let mut out = Vec::with_capacity(digits.len() * 3 / 4);
-    for chunk in digits.chunks(4) {
-        if chunk.len() == 1 {
-            return None;
-        }
-        let mut bits = 0u32;
-        for (k, &c) in chunk.iter().enumerate() {
-            bits |= value(c)? << (18 - 6 * k);
-        }
-        let bytes = bits.to_be_bytes();
-        out.extend_from_slice(&bytes[1..chunk.len()]);
-    }
-    Some(out)
-}
-
-/// `%XX` escapes of a URI path decoded (glTF writers escape spaces in file names).
-fn percent_decode(uri: &str) -> Option<String> {
-    let bytes = uri.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%' {
-            let hex = std::str::from_utf8(bytes.get(i + 1..i + 3)?).ok()?;
-            out.push(u8::from_str_radix(hex, 16).ok()?);
-            i += 3;
-        } else {
-            out.push(bytes[i]);
-            i += 1;
-        }
-    }
-    String::from_utf8(out).ok()
-}
-
-/// Every node of the scene to show, with its world transform (parents first).
-fn placed_nodes<'a>(
-    gltf: &'a gltf::Gltf,
-    file: &str,
-) -> Result<Vec<(gltf::Node<'a>, Mat4)>, MeshError> {
-    let roots: Vec<gltf::Node<'a>> = match gltf.default_scene().or_else(|| gltf.scenes().next()) {
-        Some(scene) => scene.nodes().collect(),
-        None => {
-            let mut is_child = vec![false; gltf.nodes().len()];
-            for n in gltf.nodes() {
-                for c in n.children() {
-                    is_child[c.index()] = true;
-                }
-            }
-            gltf.nodes().filter(|n| !is_child[n.index()]).collect()
-        }
-    };
-    let mut visited = vec![false; gltf.nodes().len()];
-    let mut stack: Vec<(gltf::Node<'a>, Mat4)> = roots
-        .into_iter()
-        .rev()
-        .map(|n| (n, Mat4::IDENTITY))
-        .collect();
-    let mut out = Vec::new();
-    while let Some((node, parent)) = stack.pop() {
-        let element = format!("nodes[{}]", node.index());
-        if std::mem::replace(&mut visited[node.index()], true) {
-            return Err(element_error(
-                file,
-                element,
-                "reached twice (a glTF node has at most one parent and no cycle)",
-            ));
-        }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if !world.is_finite() {
-            return Err(element_error(
-                file,
-                element,
-                "transform is not finite (NaN or overflow)",
-            ));
-        }
-        for child in node.children().collect::<Vec<_>>().into_iter().rev() {
-            stack.push((child, world));
-        }
-        out.push((node, world));
-    }
-    Ok(out)
-}
-
 /// The corners of all primitives read so far, welded into one soup.
 #[derive(Default)]
 struct Assembly {
@@ -351,84 +187,22 @@ struct Assembly {
     normal_ix: Vec<[u32; 3]>,
     uvs: Vec<Vec2>,
     uv_ix: Vec<[u32; 3]>,
+    /// `COLOR_0` (white for a primitive without it: glTF's base colour times 1).
+    colors: Vec<Vec3>,
+    color_ix: Vec<[u32; 3]>,
+    tangents: Vec<Vec4>,
+    tangent_ix: Vec<[u32; 3]>,
     /// Per triangle, the glTF material index (`None`: glTF's default material).
     gltf_materials: Vec<Option<usize>>,
     groups: Vec<String>,
     all_normals: bool,
     all_uvs: bool,
+    all_tangents: bool,
+    /// Whether any primitive has `COLOR_0`.
+    any_colors: bool,
     /// Whether any primitive has been added (before that, `all_*` are vacuously true).
     started: bool,
 }
-
-/// Checks that `accessor` has one of the `types` and lies inside its view and buffer, so the
-/// crate's reader (which slices and asserts) cannot panic on it.
-fn check_accessor(
-    accessor: &gltf::Accessor<'_>,
-    types: &[(DataType, Dimensions)],
-    buffers: &[Cow<'_, [u8]>],
-) -> Result<(), String> {
-    let what = format!("accessor {}", accessor.index());
-    if !types.contains(&(accessor.data_type(), accessor.dimensions())) {
-        return Err(format!(
-            "{what}: {:?} {:?} is not a type this attribute may have",
-            accessor.data_type(),
-            accessor.dimensions()
-        ));
-    }
-    if accessor.sparse().is_some() {
-        return Err(format!("{what}: sparse accessors are not supported"));
-    }
-    let view = accessor
-        .view()
-        .ok_or_else(|| format!("{what}: no buffer view (all zeros)"))?;
-    let size = accessor.size();
-    let stride = view.stride().unwrap_or(size);
-    if stride < size {
-        return Err(format!(
-            "{what}: stride {stride} is below the element size {size}"
-        ));
-    }
-    let count = accessor.count();
-    if count == 0 {
-        return Err(format!("{what}: count is 0"));
-    }
-    let end = (count - 1)
-        .checked_mul(stride)
-        .and_then(|x| x.checked_add(size))
-        .and_then(|x| x.checked_add(accessor.offset()));
-    if end.is_none_or(|end| end > view.length()) {
-        return Err(format!(
-            "{what}: {count} elements do not fit in buffer view {} ({} bytes)",
-            view.index(),
-            view.length()
-        ));
-    }
-    let buffer_len = buffers.get(view.buffer().index()).map_or(0, |b| b.len());
-    if view
-        .offset()
-        .checked_add(view.length())
-        .is_none_or(|end| end > buffer_len)
-    {
-        return Err(format!(
-            "buffer view {} runs past the end of buffer {}",
-            view.index(),
-            view.buffer().index()
-        ));
-    }
-    Ok(())
-}
-
-const VEC3_F32: &[(DataType, Dimensions)] = &[(DataType::F32, Dimensions::Vec3)];
-const UV_TYPES: &[(DataType, Dimensions)] = &[
-    (DataType::F32, Dimensions::Vec2),
-    (DataType::U8, Dimensions::Vec2),
-    (DataType::U16, Dimensions::Vec2),
-];
-const INDEX_TYPES: &[(DataType, Dimensions)] = &[
-    (DataType::U8, Dimensions::Scalar),
-    (DataType::U16, Dimensions::Scalar),
-    (DataType::U32, Dimensions::Scalar),
-];
 
 impl Assembly {
     /// Adds one primitive placed by `world`; `element` names it in messages.
@@ -465,6 +239,14 @@ impl Assembly {
         if let Some(a) = &uv_accessor {
             check_accessor(a, UV_TYPES, buffers).map_err(|w| fail(format!("TEXCOORD_0: {w}")))?;
         }
+        let color_accessor = primitive.get(&Semantic::Colors(0));
+        if let Some(a) = &color_accessor {
+            check_accessor(a, COLOR_TYPES, buffers).map_err(|w| fail(format!("COLOR_0: {w}")))?;
+        }
+        let tangent_accessor = primitive.get(&Semantic::Tangents);
+        if let Some(a) = &tangent_accessor {
+            check_accessor(a, TANGENT_TYPES, buffers).map_err(|w| fail(format!("TANGENT: {w}")))?;
+        }
         if let Some(a) = primitive.indices() {
             check_accessor(&a, INDEX_TYPES, buffers).map_err(|w| fail(format!("indices: {w}")))?;
         }
@@ -476,7 +258,12 @@ impl Assembly {
             .map(Vec3::from_array)
             .collect();
         let count = local.len();
-        for (name, a) in [("NORMAL", &normal_accessor), ("TEXCOORD_0", &uv_accessor)] {
+        for (name, a) in [
+            ("NORMAL", &normal_accessor),
+            ("TEXCOORD_0", &uv_accessor),
+            ("COLOR_0", &color_accessor),
+            ("TANGENT", &tangent_accessor),
+        ] {
             match a {
                 Some(a) if a.count() != count => {
                     return Err(fail(format!(
@@ -548,9 +335,23 @@ impl Assembly {
         {
             return Err(fail("TEXCOORD_0: NaN or infinite value".to_owned()));
         }
+        let color_base = self.colors.len() as u32;
+        let has_colors = self.read_colors(&reader, &fail)?;
+        let tangent_base = self.tangents.len() as u32;
+        let has_tangents = self.read_tangents(&reader, linear, &fail)?;
         self.all_normals = has_normals && (self.all_normals || !self.started);
         self.all_uvs = has_uvs && (self.all_uvs || !self.started);
+        self.all_tangents = has_tangents && (self.all_tangents || !self.started);
+        self.any_colors |= has_colors;
         self.started = true;
+        // Without COLOR_0 every corner takes the one white entry pushed for the primitive.
+        let color_of = |c: u32| {
+            if has_colors {
+                color_base + c
+            } else {
+                color_base
+            }
+        };
 
         let material = primitive.material().index();
         for corner in triangles(mode, &indices) {
@@ -562,6 +363,8 @@ impl Assembly {
             self.soup.triangles.push(corner.map(|c| ids[c as usize]));
             self.normal_ix.push(corner.map(|c| normal_base + c));
             self.uv_ix.push(corner.map(|c| uv_base + c));
+            self.color_ix.push(corner.map(color_of));
+            self.tangent_ix.push(corner.map(|c| tangent_base + c));
             self.soup.material_ids.push(0);
             self.gltf_materials.push(material);
         }
@@ -591,44 +394,6 @@ fn triangles(mode: Mode, ix: &[u32]) -> Vec<[u32; 3]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn base64_decodes_with_and_without_padding() {
-        assert_eq!(
-            base64_decode("aGVsbG8=").as_deref(),
-            Some(b"hello".as_slice())
-        );
-        assert_eq!(
-            base64_decode("aGVsbG8").as_deref(),
-            Some(b"hello".as_slice())
-        );
-        assert_eq!(
-            base64_decode("AAECAw==").as_deref(),
-            Some([0u8, 1, 2, 3].as_slice())
-        );
-        assert_eq!(base64_decode("").as_deref(), Some([].as_slice()));
-        assert!(base64_decode("a").is_none());
-        assert!(base64_decode("a$==").is_none());
-    }
-
-    #[test]
-    fn network_and_absolute_uris_are_refused() {
-        let never = |_: &str| -> std::io::Result<Vec<u8>> { panic!("must not read") };
-        for uri in [
-            "http://example.invalid/a.bin",
-            "file:///etc/passwd",
-            "/abs/a.bin",
-            "C:\\a.bin",
-        ] {
-            let e = uri_bytes(uri, &never).expect_err(uri);
-            assert!(e.contains("not a relative file"), "{e}");
-        }
-        let read = |p: &str| Ok(p.as_bytes().to_vec());
-        assert_eq!(
-            uri_bytes("my%20mesh.bin", &read).as_deref(),
-            Ok(b"my mesh.bin".as_slice())
-        );
-    }
 
     #[test]
     fn strips_and_fans_follow_the_specification() {
