@@ -21,6 +21,9 @@ use gltf::mesh::{Mode, Semantic};
 
 use super::{Welder, element_error, finish, one_line};
 use crate::build::TriangleSoup;
+use crate::sanitize::quote;
+
+mod guard;
 use crate::error::MeshError;
 use crate::mesh::{Mesh, MtlMaterial};
 use crate::normals::NormalOptions;
@@ -38,6 +41,7 @@ pub(super) fn parse(
             file: file.to_owned(),
         });
     }
+    guard::check_glb(bytes, file)?;
     // gltf-json 1.4's validation indexes the accessor list with a primitive's POSITION index
     // unchecked, so a file naming an accessor that does not exist would panic there: parse
     // without validation first and refuse such indices, then parse with validation.
@@ -52,7 +56,11 @@ pub(super) fn parse(
             format!("glTF version {version} is not supported (2.x only)"),
         ));
     }
-    let buffers = load_buffers(&gltf, file, read_relative)?;
+    // Nothing is read before the placed triangles and the buffers' sizes are known to fit.
+    let placed = placed_nodes(&gltf, file)?;
+    guard::check_placed(&placed, file)?;
+    let uri_data = guard::read_uris(&gltf, file, read_relative)?;
+    let buffers = load_buffers(&gltf, file, &uri_data)?;
     let mut warnings = Vec::new();
     if gltf.skins().next().is_some() {
         warnings.push(format!(
@@ -61,7 +69,7 @@ pub(super) fn parse(
     }
 
     let mut out = Assembly::default();
-    for (node, world) in placed_nodes(&gltf, file)? {
+    for (node, world) in placed {
         let Some(mesh) = node.mesh() else { continue };
         let name = mesh
             .name()
@@ -179,11 +187,12 @@ fn material(m: &gltf::Material<'_>) -> MtlMaterial {
     }
 }
 
-/// The bytes of every buffer, each at least as long as the file declares.
+/// The bytes of every buffer, each at least as long as the file declares; `uri_data` holds
+/// the bytes of the URIs they name ([`guard::read_uris`]).
 fn load_buffers<'a>(
     gltf: &'a gltf::Gltf,
     file: &str,
-    read_relative: &dyn Fn(&str) -> std::io::Result<Vec<u8>>,
+    uri_data: &'a std::collections::HashMap<String, Vec<u8>>,
 ) -> Result<Vec<Cow<'a, [u8]>>, MeshError> {
     let mut out = Vec::new();
     for buffer in gltf.buffers() {
@@ -196,8 +205,10 @@ fn load_buffers<'a>(
                     "refers to a GLB binary chunk the file lacks",
                 )
             })?),
-            Source::Uri(uri) => Cow::Owned(
-                uri_bytes(uri, read_relative).map_err(|w| element_error(file, &element, w))?,
+            Source::Uri(uri) => Cow::Borrowed(
+                uri_data
+                    .get(uri)
+                    .ok_or_else(|| element_error(file, &element, "its uri was not read"))?,
             ),
         };
         if data.len() < buffer.length() {
@@ -239,12 +250,14 @@ fn uri_bytes(
     });
     if scheme || uri.starts_with('/') || uri.starts_with('\\') {
         return Err(format!(
-            "uri '{uri}' is not a relative file; only relative files, data: URIs and the \
-             GLB binary chunk are read"
+            "uri '{}' is not a relative file; only relative files, data: URIs and the \
+             GLB binary chunk are read",
+            quote(uri, 80)
         ));
     }
-    let path = percent_decode(uri).ok_or_else(|| format!("uri '{uri}': malformed %-escape"))?;
-    read_relative(&path).map_err(|e| format!("cannot read '{path}': {e}"))
+    let path = percent_decode(uri)
+        .ok_or_else(|| format!("uri '{}': malformed %-escape", quote(uri, 80)))?;
+    read_relative(&path).map_err(|e| format!("cannot read '{}': {e}", quote(&path, 80)))
 }
 
 /// Standard base64 (RFC 4648), padding optional; `None` on any other character.

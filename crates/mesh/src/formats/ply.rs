@@ -19,7 +19,10 @@ use crate::build::TriangleSoup;
 use crate::error::MeshError;
 use crate::mesh::Mesh;
 use crate::normals::NormalOptions;
+use crate::open::{MAX_LINE_BYTES, long_line, long_line_message};
 use crate::triangulate::triangulate;
+
+mod words;
 
 /// Names the face list may have (both are in use: Stanford's scans use `vertex_indices`).
 const FACE_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
@@ -242,15 +245,13 @@ fn message(e: &ParseError) -> String {
             .unwrap_or_else(|| text.clone()),
         None => text,
     };
-    one_line(&text)
+    words::plain(&one_line(&text))
 }
 
-/// At most 40 characters of `text`, for messages.
+/// At most 40 characters of `text` (and a `...` marking a cut), control characters
+/// escaped, for messages.
 fn clip(text: &str) -> String {
-    match text.char_indices().nth(40) {
-        Some((end, _)) => format!("{}...", &text[..end]),
-        None => text.to_owned(),
-    }
+    crate::sanitize::quote(text, 43)
 }
 
 /// Reads elements of one definition, one at a time, from the payload that `rest` holds.
@@ -350,6 +351,7 @@ pub(super) fn parse(
             file: file.to_owned(),
         });
     }
+    words::check_header(bytes, file)?;
     let mut reader = Reader::new(bytes);
     let header = Parser::<Skip>::new()
         .read_header(&mut reader)
@@ -379,10 +381,21 @@ pub(super) fn parse(
     let layout = layout(&header, file)?;
     let rest: &[u8] = reader.get_ref();
     let header_len = bytes.len() - rest.len();
+    let header_lines = bytes[..header_len].iter().filter(|&&b| b == b'\n').count();
+    if header.encoding == Encoding::Ascii
+        && let Some(k) = long_line(rest, MAX_LINE_BYTES)
+    {
+        // The crate splits a line into words: a line is bounded before it is read.
+        return Err(MeshError::Parse {
+            file: file.to_owned(),
+            line: header_lines + k,
+            what: long_line_message(),
+        });
+    }
     let mut payload = Payload {
         rest,
         encoding: header.encoding,
-        line: bytes[..header_len].iter().filter(|&&b| b == b'\n').count() + 1,
+        line: header_lines + 1,
     };
 
     let mut positions: Vec<Vec3> = Vec::with_capacity(layout.vertices.min(1 << 20));
