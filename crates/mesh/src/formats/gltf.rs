@@ -6,7 +6,9 @@
 //! `NORMAL`, `TEXCOORD_0`, indices, and each material's base colour factor as the diffuse
 //! reflectance `kd` (textures, metallic-roughness, skins and morph targets are not used).
 //! Buffers come from the GLB's binary chunk, `data:` URIs, or files relative to the glTF;
-//! nothing is fetched from a network.
+//! nothing is fetched from a network. Before anything is read, a GLB's chunks, the triangles
+//! the nodes place and the buffers' declared sizes are checked (`guard`), and each URI is
+//! read once; from disk, a buffer stays in the glTF's folder ([`crate::assets`]).
 //!
 //! Every accessor is checked against its buffer before it is read (type, count, stride,
 //! bounds), so a malformed file is an error naming `meshes[M].primitives[P]`, never a panic
@@ -21,12 +23,12 @@ use gltf::mesh::{Mode, Semantic};
 
 use super::{Welder, element_error, finish, one_line};
 use crate::build::TriangleSoup;
-use crate::sanitize::quote;
-
-mod guard;
 use crate::error::MeshError;
 use crate::mesh::{Mesh, MtlMaterial};
 use crate::normals::NormalOptions;
+use crate::sanitize::quote;
+
+mod guard;
 
 /// Parses a glTF or GLB file's bytes; `file` names it in messages, `read_relative` reads the
 /// buffers it names by relative path.
