@@ -44,10 +44,9 @@ fn fifo_as_scene_file_is_refused_without_blocking() {
     let dir = temp_dir("fifo-scene");
     let fifo = dir.join("scene.toml");
     mkfifo(&fifo);
-    let e = load_or_hang(&fifo)
-        .expect("a FIFO scene file must not block the load")
-        .err()
-        .expect("refused");
+    let Err(e) = load_or_hang(&fifo).expect("a FIFO scene file must not block the load") else {
+        panic!("a FIFO scene file must be refused");
+    };
     assert!(e.contains("a FIFO, not a regular file"), "{e}");
     assert!(e.starts_with(&fifo.display().to_string()), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
@@ -61,10 +60,9 @@ fn fifo_as_scene_mesh_is_refused_without_blocking() {
         mkfifo(&dir.join(name));
         let scene = dir.join("scene.toml");
         std::fs::write(&scene, format!("[[objects]]\nmesh = \"{name}\"\n")).unwrap();
-        let e = load_or_hang(&scene)
-            .expect("a FIFO mesh must not block the load")
-            .err()
-            .expect("refused");
+        let Err(e) = load_or_hang(&scene).expect("a FIFO mesh must not block the load") else {
+            panic!("a FIFO mesh must be refused");
+        };
         assert!(e.contains("objects[0].mesh"), "{e}");
         assert!(e.contains("a FIFO, not a regular file"), "{e}");
     }
@@ -90,7 +88,10 @@ fn scene_gltf_buffer_outside_the_gltf_folder_is_not_read() {
     std::fs::write(dir.join("meshes/tri.gltf"), gltf).unwrap();
     let scene = dir.join("scene.toml");
     std::fs::write(&scene, "[[objects]]\nmesh = \"meshes/tri.gltf\"\n").unwrap();
-    let e = load_scene(&scene).err().expect("refused").to_string();
+    let Err(e) = load_scene(&scene) else {
+        panic!("a buffer outside the glTF's folder must be refused");
+    };
+    let e = e.to_string();
     assert!(e.contains("buffers[0]: cannot read '../tri.bin'"), "{e}");
     assert!(e.contains("leads outside the glTF file's folder"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
