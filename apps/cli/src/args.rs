@@ -27,6 +27,10 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+    /// Let a glTF file's buffers lie outside its own folder (`../shared.bin`, or a symbolic
+    /// link out of it); by default such a file is not read.
+    #[arg(long, global = true)]
+    pub allow_outside_assets: bool,
 }
 
 /// The subcommands.

@@ -11,7 +11,6 @@
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::io::Read;
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
@@ -21,6 +20,8 @@ use crate::error::MeshError;
 use crate::mesh::{Mesh, MtlMaterial};
 use crate::mtl::{self, MaterialMaps};
 use crate::normals::{NormalOptions, NormalSource};
+use crate::open::{MAX_LINE_BYTES, MAX_MESH_FILE_BYTES, long_line, long_line_message, read_file};
+use crate::sanitize::quote;
 use crate::scan::{Scan, scan};
 use crate::triangulate::triangulate;
 
@@ -38,7 +39,7 @@ pub fn load_obj_with_warnings(
     opts: &NormalOptions,
 ) -> Result<(Mesh, Vec<String>), MeshError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+    let bytes = read_file(path, MAX_MESH_FILE_BYTES).map_err(|source| MeshError::Io {
         file: file.clone(),
         source,
     })?;
@@ -98,15 +99,21 @@ pub fn parse_obj_with_warnings(
     let warnings = RefCell::new(Vec::new());
     let maps = RefCell::new(Vec::new());
     let obj_dir = Path::new(name).parent().unwrap_or(Path::new(""));
-    let loader = |mtl_name: &Path| match mtl {
-        Some(t) => {
-            load_mtl(t.as_bytes(), &obj_dir.join(mtl_name), &maps, &warnings).inspect_err(|e| {
+    let loader = |mtl_name: &Path| match mtl.map(|t| (t, mtl_lines(t.as_bytes()))) {
+        Some((_, Err(why))) => {
+            warn(
+                &warnings,
+                format!("{name}: MTL: {why}; using the default material"),
+            );
+            Err(tobj::LoadError::OpenFileFailed)
+        }
+        Some((t, Ok(()))) => load_mtl(t.as_bytes(), &obj_dir.join(mtl_name), &maps, &warnings)
+            .inspect_err(|e| {
                 warn(
                     &warnings,
                     format!("{name}: MTL: {e}; using the default material"),
                 );
-            })
-        }
+            }),
         None => {
             warn(
                 &warnings,
@@ -160,6 +167,8 @@ const WARNING_TAIL_CHARS: usize = 80;
 /// Pushes `msg`, cut to [`MAX_WARNING_CHARS`] characters: its start (the file and line) and
 /// its end (what is wrong, what happens instead), the cut in between marked by `...`.
 fn warn(warnings: &RefCell<Vec<String>>, msg: String) {
+    // Names and tobj's messages quote the file: its control characters are escaped.
+    let msg = quote(&msg, usize::MAX);
     let count = msg.chars().count();
     let msg = if count > MAX_WARNING_CHARS {
         let head = MAX_WARNING_CHARS - 3 - WARNING_TAIL_CHARS;
@@ -206,33 +215,21 @@ fn strip_bom_bytes(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
 }
 
-/// Reads an MTL file: regular files only (a FIFO or device named by `mtllib` would block or
-/// never end), at most [`MAX_MTL_BYTES`]. The error is the reason, for a warning.
+/// Reads an MTL file: a regular file of at most [`MAX_MTL_BYTES`], opened without blocking
+/// (a FIFO or device named by `mtllib` would block or never end), lines of at most
+/// [`MAX_LINE_BYTES`]. The error is the reason, for a warning.
 fn read_mtl(path: &Path) -> Result<Vec<u8>, String> {
-    let over = |len: u64| {
-        format!(
-            "MTL file of {len} bytes is over the {} MiB limit",
-            MAX_MTL_BYTES >> 20
-        )
-    };
-    // Metadata first: opening a FIFO for reading blocks until a writer appears.
-    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read: {e}"))?;
-    if !meta.is_file() {
-        return Err("cannot read: not a regular file".to_owned());
-    }
-    if meta.len() > MAX_MTL_BYTES {
-        return Err(over(meta.len()));
-    }
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
-    let mut bytes = Vec::new();
-    // The file may grow between the check and the read: never take more than the cap.
-    file.take(MAX_MTL_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read: {e}"))?;
-    if bytes.len() as u64 > MAX_MTL_BYTES {
-        return Err(over(bytes.len() as u64));
-    }
+    let bytes = read_file(path, MAX_MTL_BYTES).map_err(|e| format!("cannot read: {e}"))?;
+    mtl_lines(&bytes)?;
     Ok(bytes)
+}
+
+/// Refuses MTL text with a line over [`MAX_LINE_BYTES`] (tobj copies every line).
+fn mtl_lines(bytes: &[u8]) -> Result<(), String> {
+    match long_line(bytes, MAX_LINE_BYTES) {
+        Some(line) => Err(format!("line {line}: {}", long_line_message())),
+        None => Ok(()),
+    }
 }
 
 fn convert_material(m: &tobj::Material) -> MtlMaterial {

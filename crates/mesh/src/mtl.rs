@@ -223,9 +223,9 @@ fn parse_map(
     })
 }
 
-/// At most 32 characters of user text in a message.
+/// At most 32 characters of user text in a message, control characters escaped.
 fn clip(s: &str) -> String {
-    s.chars().take(32).collect()
+    crate::sanitize::quote(s, 32)
 }
 
 #[cfg(test)]

@@ -44,6 +44,11 @@ fn count(n: u32, min: u32) -> u32 {
     n.clamp(min, MAX_TESSELLATION)
 }
 
+/// The memory a mesh whose size a file sets may take, checked before it is allocated: the
+/// primitives of a scene share it (`phosphor_scene::PRIMITIVE_BUDGET_BYTES` is this figure),
+/// and so do the copies of the meshes a glTF file's nodes place.
+pub const MEMORY_BUDGET_BYTES: u64 = 4_000_000_000;
+
 /// Bytes per vertex at the peak of a build: position, normal, uv and tangent (48) plus the
 /// tangent pass's two f64 sums (48).
 pub const BYTES_PER_VERTEX: u64 = 96;

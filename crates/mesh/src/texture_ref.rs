@@ -1,9 +1,17 @@
 //! References to texture images named by a material: a file or bytes embedded in the mesh
 //! file, and how the image repeats outside `[0, 1]`. Nothing here decodes an image: the
-//! caller (the scene) reads and decodes the image a [`TextureRef`] names.
+//! caller (the scene) decodes the image a [`TextureRef`] names, whose bytes
+//! [`TextureSource::bytes`] reads as every input file is read ([`crate::open`]).
 
+use std::io;
 use std::path::PathBuf;
 use std::sync::Arc;
+
+use crate::open::read_file;
+
+/// Largest texture image file read, in bytes: 256 MiB, past a 16384 x 16384 PNG of photo
+/// content; an image is encoded, so its decoded size is the decoder's to bound.
+pub const MAX_IMAGE_BYTES: u64 = 256 << 20;
 
 /// What a texture lookup does with a coordinate outside `[0, 1]`, per axis.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -21,7 +29,8 @@ pub enum Wrap {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum TextureSource {
     /// A file, already resolved against the folder of the file that named it (the MTL file,
-    /// the `.gltf` file); not read yet, so it may not exist.
+    /// the `.gltf` file, whose images stay in its folder as its buffers do:
+    /// [`crate::assets::asset_path`]); not read yet, so it may not exist.
     File(PathBuf),
     /// Bytes inside the mesh file (a glTF `data:` URI or a buffer view of a GLB), still encoded.
     Embedded {
@@ -45,4 +54,39 @@ pub struct TextureRef {
     pub wrap_v: Wrap,
     /// The reference as the file wrote it (a file name, `images[2]`), for messages.
     pub written: String,
+}
+
+impl TextureSource {
+    /// The encoded image: the embedded bytes, or the file's, read as a regular file of at most
+    /// [`MAX_IMAGE_BYTES`] opened without blocking ([`crate::open::read_file`]).
+    ///
+    /// # Errors
+    /// The file is missing, not a regular file, over the cap, or unreadable; the message
+    /// says which, for the caller to prefix with the file's name.
+    pub fn bytes(&self) -> io::Result<Arc<[u8]>> {
+        match self {
+            TextureSource::File(path) => read_file(path, MAX_IMAGE_BYTES).map(Arc::from),
+            TextureSource::Embedded { bytes, .. } => Ok(bytes.clone()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_image_file_is_read_as_every_input_is() {
+        let e = TextureSource::File(std::env::temp_dir())
+            .bytes()
+            .expect_err("a folder");
+        assert_eq!(e.to_string(), "a folder, not a regular file");
+        let bytes: Arc<[u8]> = Arc::from(&[1u8, 2][..]);
+        let embedded = TextureSource::Embedded {
+            name: "images[0]".to_owned(),
+            mime: None,
+            bytes: bytes.clone(),
+        };
+        assert!(Arc::ptr_eq(&embedded.bytes().expect("embedded"), &bytes));
+    }
 }

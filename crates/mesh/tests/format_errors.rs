@@ -115,7 +115,12 @@ fn truncated_binary_files_name_the_element_where_they_end() {
     headless[..5].copy_from_slice(b"SOLID");
     assert_error(&headless[..60], "t.stl", "t.stl: header: ", "truncated");
     let glb = cube_gltf(GltfBuffer::Glb).0;
-    assert_error(&glb[..glb.len() - 40], "t.glb", "t.glb: ", "glTF");
+    assert_error(
+        &glb[..glb.len() - 40],
+        "t.glb",
+        "t.glb: BIN chunk: ",
+        "truncated",
+    );
 }
 
 #[test]

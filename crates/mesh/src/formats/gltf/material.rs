@@ -1,15 +1,18 @@
 //! glTF materials as the mesh's [`MtlMaterial`] list: the base colour factor as `kd`, the base
 //! colour texture as `kd_map`, the normal texture and its scale as `normal_map`, each texture's
 //! sampler wraps (filters are the renderer's choice). Images come from a file relative to the
-//! glTF (the buffer URI rules: no scheme, no absolute path), a base64 `data:` URI, or a buffer
-//! view (copied out of the GLB or buffer). Metallic-roughness, occlusion and emissive textures,
+//! glTF (the buffer URI rules: no scheme, no absolute path, and the file stays in the glTF's
+//! folder unless outside assets are allowed: [`crate::assets::asset_path`]), a base64 `data:`
+//! URI, or a buffer view (copied out of the GLB or buffer). Each image is resolved once however
+//! many materials use it, and the embedded images copied or decoded stay within
+//! [`MAX_MESH_FILE_BYTES`] together. Metallic-roughness, occlusion and emissive textures,
 //! textures on another uv set than `TEXCOORD_0`, and extensions (`KHR_texture_transform`, ...)
 //! are not used: warnings say so. A texture, image or sampler index out of range is a warning
 //! and the reference is dropped ([`drop_bad_references`], before the `gltf` crate validates).
 
 use std::borrow::Cow;
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use glam::Vec3;
@@ -18,7 +21,10 @@ use gltf::json::texture::WrappingMode;
 use gltf::json::validation::Checked;
 
 use super::uri::{UriTarget, resolve_uri};
+use crate::assets::asset_path;
 use crate::mesh::MtlMaterial;
+use crate::open::{MAX_MESH_FILE_BYTES, limit_text};
+use crate::sanitize::quote;
 use crate::texture_ref::{TextureRef, TextureSource, Wrap};
 
 /// Unlinks every texture reference that points nowhere, with a warning each, so validation
@@ -115,8 +121,13 @@ pub(super) struct Textures<'a> {
     pub file: &'a str,
     pub gltf: &'a gltf::Gltf,
     pub buffers: &'a [Cow<'a, [u8]>],
-    /// Embedded images already copied, by image index, so materials share them.
-    pub embedded: HashMap<usize, Arc<[u8]>>,
+    /// Images already resolved, by image index, so materials share them (an embedded image is
+    /// copied once) and a bad one is refused for the same reason each time: the source and
+    /// how the file wrote it, or why it is not used.
+    pub images: HashMap<usize, Result<(TextureSource, String), String>>,
+    /// Bytes of the embedded images copied or decoded so far, at most
+    /// [`MAX_MESH_FILE_BYTES`].
+    pub embedded_bytes: u64,
 }
 
 /// The MTL-style material of glTF material `m` (see the module docs); problems with its
@@ -207,52 +218,21 @@ impl Textures<'_> {
                 (wrap(&s.wrap_s), wrap(&s.wrap_t))
             });
         let image_index = texture.source.value();
-        let image = root.images.get(image_index)?;
-        let name = image
-            .name
-            .clone()
-            .unwrap_or_else(|| format!("images[{image_index}]"));
-        let mime = image.mime_type.as_ref().map(|m| m.0.clone());
-        let (source, written) = if let Some(view) = image.buffer_view {
-            let bytes = match self.embedded.get(&image_index) {
-                Some(bytes) => bytes.clone(),
-                None => {
-                    let Some(bytes) = self.view_bytes(view.value()) else {
-                        warnings.push(format!(
-                            "{file}: {slot}: images[{image_index}]: buffer view {} runs past \
-                             its buffer; texture not used",
-                            view.value()
-                        ));
-                        return None;
-                    };
-                    self.embedded.insert(image_index, bytes.clone());
-                    bytes
-                }
-            };
-            let written = format!("images[{image_index}] (buffer view {})", view.value());
-            (TextureSource::Embedded { name, mime, bytes }, written)
-        } else {
-            let uri = image.uri.as_deref()?;
-            match resolve_uri(uri) {
-                Ok(UriTarget::Relative(path)) => {
-                    let dir = Path::new(file).parent().unwrap_or(Path::new(""));
-                    (TextureSource::File(dir.join(PathBuf::from(&path))), path)
-                }
-                Ok(UriTarget::Data {
-                    mime: data_mime,
-                    bytes,
-                }) => {
-                    let bytes: Arc<[u8]> = bytes.into();
-                    let written = format!("images[{image_index}] (data: URI)");
-                    let mime = data_mime.or(mime);
-                    (TextureSource::Embedded { name, mime, bytes }, written)
-                }
-                Err(why) => {
-                    warnings.push(format!(
-                        "{file}: {slot}: images[{image_index}]: {why}; texture not used"
-                    ));
-                    return None;
-                }
+        let resolved = match self.images.get(&image_index) {
+            Some(resolved) => resolved.clone(),
+            None => {
+                let resolved = self.image(image_index)?;
+                self.images.insert(image_index, resolved.clone());
+                resolved
+            }
+        };
+        let (source, written) = match resolved {
+            Ok(found) => found,
+            Err(why) => {
+                warnings.push(format!(
+                    "{file}: {slot}: images[{image_index}]: {why}; texture not used"
+                ));
+                return None;
             }
         };
         Some(TextureRef {
@@ -263,12 +243,63 @@ impl Textures<'_> {
         })
     }
 
+    /// Image `index`: its source and how the file wrote it, or why it cannot be used;
+    /// `None` when it does not exist (dropped by [`drop_bad_references`]).
+    fn image(&mut self, index: usize) -> Option<Result<(TextureSource, String), String>> {
+        let image = self.gltf.as_json().images.get(index)?;
+        let name = image
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("images[{index}]"));
+        let mime = image.mime_type.as_ref().map(|m| m.0.clone());
+        let (bytes, mime, written) = if let Some(view) = image.buffer_view {
+            let Some(bytes) = self.view_bytes(view.value()) else {
+                return Some(Err(format!(
+                    "buffer view {} runs past its buffer",
+                    view.value()
+                )));
+            };
+            let written = format!("images[{index}] (buffer view {})", view.value());
+            (bytes, mime, written)
+        } else {
+            match resolve_uri(image.uri.as_deref()?) {
+                Ok(UriTarget::Relative(path)) => {
+                    // Confined as a buffer's file is; read later, by whoever decodes it.
+                    return Some(match asset_path(Path::new(self.file), &path) {
+                        Ok(found) => Ok((TextureSource::File(found), path)),
+                        Err(why) => Err(format!("uri '{}' {why}", quote(&path, 80))),
+                    });
+                }
+                Ok(UriTarget::Data {
+                    mime: data_mime,
+                    bytes,
+                }) => (
+                    bytes,
+                    data_mime.or(mime),
+                    format!("images[{index}] (data: URI)"),
+                ),
+                Err(why) => return Some(Err(why)),
+            }
+        };
+        let total = self.embedded_bytes.saturating_add(bytes.len() as u64);
+        if total > MAX_MESH_FILE_BYTES {
+            return Some(Err(format!(
+                "{} bytes, over the {} the embedded images may take together",
+                bytes.len(),
+                limit_text(MAX_MESH_FILE_BYTES)
+            )));
+        }
+        self.embedded_bytes = total;
+        let bytes: Arc<[u8]> = bytes.into();
+        Some(Ok((TextureSource::Embedded { name, mime, bytes }, written)))
+    }
+
     /// A copy of buffer view `view`'s bytes; `None` when it runs past its buffer.
-    fn view_bytes(&self, view: usize) -> Option<Arc<[u8]>> {
+    fn view_bytes(&self, view: usize) -> Option<Vec<u8>> {
         let view = self.gltf.views().nth(view)?;
         let buffer = self.buffers.get(view.buffer().index())?;
         let end = view.offset().checked_add(view.length())?;
-        buffer.get(view.offset()..end).map(Arc::from)
+        buffer.get(view.offset()..end).map(<[u8]>::to_vec)
     }
 }
 

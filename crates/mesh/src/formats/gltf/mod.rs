@@ -10,7 +10,9 @@
 //! [`material`]: base colour factor and texture, normal texture; metallic-roughness, skins and
 //! morph targets are not used).
 //! Buffers come from the GLB's binary chunk, `data:` URIs, or files relative to the glTF;
-//! nothing is fetched from a network.
+//! nothing is fetched from a network. Before anything is read, a GLB's chunks, the triangles
+//! the nodes place and the buffers' declared sizes are checked (`guard`), and each URI is
+//! read once; from disk, a buffer stays in the glTF's folder ([`crate::assets`]).
 //!
 //! Every accessor is checked against its buffer before it is read (type, count, stride,
 //! bounds), so a malformed file is an error naming `meshes[M].primitives[P]`, never a panic
@@ -27,6 +29,9 @@ use crate::build::TriangleSoup;
 use crate::error::MeshError;
 use crate::mesh::{Mesh, MtlMaterial};
 use crate::normals::NormalOptions;
+use crate::sanitize::quote;
+
+mod guard;
 
 mod accessor;
 mod attributes;
@@ -55,6 +60,7 @@ pub(super) fn parse(
             file: file.to_owned(),
         });
     }
+    guard::check_glb(bytes, file)?;
     // gltf-json 1.4's validation indexes the accessor list with a primitive's POSITION index
     // unchecked, so a file naming an accessor that does not exist would panic there: parse
     // without validation first and refuse such indices, then parse with validation.
@@ -69,7 +75,8 @@ pub(super) fn parse(
     drop_bad_references(&mut root, file, &mut warnings);
     for name in &root.extensions_used {
         warnings.push(format!(
-            "{file}: extension {name} is not supported; ignored"
+            "{file}: extension {} is not supported; ignored",
+            quote(name, 80)
         ));
     }
     let document = gltf::Document::from_json(root).map_err(|e| invalid(file, describe(&e)))?;
@@ -81,7 +88,11 @@ pub(super) fn parse(
             format!("glTF version {version} is not supported (2.x only)"),
         ));
     }
-    let buffers = load_buffers(&gltf, file, read_relative)?;
+    // Nothing is read before the placed triangles and the buffers' sizes are known to fit.
+    let placed = placed_nodes(&gltf, file)?;
+    guard::check_placed(&placed, file)?;
+    let uri_data = guard::read_uris(&gltf, file, read_relative)?;
+    let buffers = load_buffers(&gltf, file, &uri_data)?;
     if gltf.skins().next().is_some() {
         warnings.push(format!(
             "{file}: skins are not applied; meshes are loaded in their bind pose"
@@ -89,7 +100,7 @@ pub(super) fn parse(
     }
 
     let mut out = Assembly::default();
-    for (node, world) in placed_nodes(&gltf, file)? {
+    for (node, world) in placed {
         let Some(mesh) = node.mesh() else { continue };
         let name = mesh
             .name()
@@ -107,7 +118,8 @@ pub(super) fn parse(
         file,
         gltf: &gltf,
         buffers: &buffers,
-        embedded: HashMap::new(),
+        images: HashMap::new(),
+        embedded_bytes: 0,
     };
     let materials: Vec<MtlMaterial> = gltf
         .materials()

@@ -1,33 +1,40 @@
 //! Where a glTF's bytes come from: the GLB binary chunk, base64 `data:` URIs, or files
 //! relative to the glTF (a URI with a scheme or an absolute path is refused, never fetched).
+//! Buffers and images share one reading of a URI ([`resolve_uri`]); the relative file it
+//! names is then confined to the glTF's folder by [`crate::assets::asset_path`], for a buffer
+//! through the reader's `read_relative` ([`crate::assets::read_asset`] when loading from disk),
+//! for an image directly (see `material`).
 
 use std::borrow::Cow;
+use std::collections::HashMap;
 
 use gltf::buffer::Source;
 
 use super::super::element_error;
 use crate::error::MeshError;
+use crate::sanitize::quote;
 
-/// The bytes of every buffer, each at least as long as the file declares.
+/// The bytes of every buffer, each at least as long as the file declares; `uri_data` holds
+/// the bytes of the URIs they name (`guard::read_uris`, each URI read once).
 pub(super) fn load_buffers<'a>(
     gltf: &'a gltf::Gltf,
     file: &str,
-    read_relative: &dyn Fn(&str) -> std::io::Result<Vec<u8>>,
+    uri_data: &'a HashMap<String, Vec<u8>>,
 ) -> Result<Vec<Cow<'a, [u8]>>, MeshError> {
     let mut out = Vec::new();
     for buffer in gltf.buffers() {
         let element = format!("buffers[{}]", buffer.index());
-        let data: Cow<'a, [u8]> = match buffer.source() {
-            Source::Bin => Cow::Borrowed(gltf.blob.as_deref().ok_or_else(|| {
+        let data: &'a [u8] = match buffer.source() {
+            Source::Bin => gltf.blob.as_deref().ok_or_else(|| {
                 element_error(
                     file,
                     &element,
                     "refers to a GLB binary chunk the file lacks",
                 )
-            })?),
-            Source::Uri(uri) => Cow::Owned(
-                uri_bytes(uri, read_relative).map_err(|w| element_error(file, &element, w))?,
-            ),
+            })?,
+            Source::Uri(uri) => uri_data
+                .get(uri)
+                .ok_or_else(|| element_error(file, &element, "its uri was not read"))?,
         };
         if data.len() < buffer.length() {
             return Err(element_error(
@@ -40,7 +47,7 @@ pub(super) fn load_buffers<'a>(
                 ),
             ));
         }
-        out.push(data);
+        out.push(Cow::Borrowed(data));
     }
     Ok(out)
 }
@@ -84,23 +91,26 @@ pub(super) fn resolve_uri(uri: &str) -> Result<UriTarget, String> {
     });
     if scheme || uri.starts_with('/') || uri.starts_with('\\') {
         return Err(format!(
-            "uri '{uri}' is not a relative file; only relative files, data: URIs and the \
-             GLB binary chunk are read"
+            "uri '{}' is not a relative file; only relative files, data: URIs and the \
+             GLB binary chunk are read",
+            quote(uri, 80)
         ));
     }
-    let path = percent_decode(uri).ok_or_else(|| format!("uri '{uri}': malformed %-escape"))?;
+    let path = percent_decode(uri)
+        .ok_or_else(|| format!("uri '{}': malformed %-escape", quote(uri, 80)))?;
     Ok(UriTarget::Relative(path))
 }
 
-/// A buffer's bytes from its URI: a base64 `data:` URI, or a file relative to the glTF.
-fn uri_bytes(
+/// A buffer's bytes from its URI: a base64 `data:` URI, or a file relative to the glTF read
+/// through `read_relative` (which confines it).
+pub(super) fn uri_bytes(
     uri: &str,
     read_relative: &dyn Fn(&str) -> std::io::Result<Vec<u8>>,
 ) -> Result<Vec<u8>, String> {
     match resolve_uri(uri)? {
         UriTarget::Data { bytes, .. } => Ok(bytes),
         UriTarget::Relative(path) => {
-            read_relative(&path).map_err(|e| format!("cannot read '{path}': {e}"))
+            read_relative(&path).map_err(|e| format!("cannot read '{}': {e}", quote(&path, 80)))
         }
     }
 }

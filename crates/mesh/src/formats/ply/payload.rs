@@ -39,15 +39,13 @@ pub(super) fn message(e: &ParseError) -> String {
             .unwrap_or_else(|| text.clone()),
         None => text,
     };
-    one_line(&text)
+    super::words::plain(&one_line(&text))
 }
 
-/// At most 40 characters of `text`, for messages.
+/// At most 40 characters of `text` (and a `...` marking a cut), control characters
+/// escaped, for messages.
 pub(super) fn clip(text: &str) -> String {
-    match text.char_indices().nth(40) {
-        Some((end, _)) => format!("{}...", &text[..end]),
-        None => text.to_owned(),
-    }
+    crate::sanitize::quote(text, 43)
 }
 
 /// Reads elements of one definition, one at a time, from the payload that `rest` holds.
