@@ -14,8 +14,7 @@
 use glam::Vec3;
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
-    BeginList, Encoding, Header, Property, PropertyAccess, PropertyAccessResult, PropertyType,
-    ScalarType,
+    BeginList, Header, Property, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
 use super::{Welder, element_error, finish};
@@ -23,7 +22,6 @@ use crate::build::{TriangleSoup, unit_color};
 use crate::error::MeshError;
 use crate::mesh::Mesh;
 use crate::normals::NormalOptions;
-use crate::open::{MAX_LINE_BYTES, long_line, long_line_message};
 use crate::triangulate::triangulate;
 
 mod payload;
@@ -320,21 +318,7 @@ pub(super) fn parse(
     let rest: &[u8] = reader.get_ref();
     let header_len = bytes.len() - rest.len();
     let header_lines = bytes[..header_len].iter().filter(|&&b| b == b'\n').count();
-    if header.encoding == Encoding::Ascii
-        && let Some(k) = long_line(rest, MAX_LINE_BYTES)
-    {
-        // The crate splits a line into words: a line is bounded before it is read.
-        return Err(MeshError::Parse {
-            file: file.to_owned(),
-            line: header_lines + k,
-            what: long_line_message(),
-        });
-    }
-    let mut payload = Payload {
-        rest,
-        encoding: header.encoding,
-        line: header_lines + 1,
-    };
+    let mut payload = Payload::new(rest, header.encoding, header_lines, file)?;
 
     let mut positions: Vec<Vec3> = Vec::with_capacity(layout.vertices.min(1 << 20));
     let mut normals: Vec<Vec3> = Vec::new();

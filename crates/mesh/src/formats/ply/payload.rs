@@ -5,6 +5,7 @@ use ply_rs_bw::ply::{ElementDef, Encoding, PropertyAccess};
 
 use super::super::{element_error, one_line};
 use crate::error::MeshError;
+use crate::open::{MAX_LINE_BYTES, long_line, long_line_message};
 
 /// Where the reader is, for messages: the element (`face 7 of 40`, named only when an error
 /// needs it: a label per element would cost more than reading it), and its line in an ASCII
@@ -50,13 +51,38 @@ pub(super) fn clip(text: &str) -> String {
 
 /// Reads elements of one definition, one at a time, from the payload that `rest` holds.
 pub(super) struct Payload<'a> {
-    pub(super) rest: &'a [u8],
-    pub(super) encoding: Encoding,
+    rest: &'a [u8],
+    encoding: Encoding,
     /// 1-based line of the next ASCII line.
-    pub(super) line: usize,
+    line: usize,
 }
 
-impl Payload<'_> {
+impl<'a> Payload<'a> {
+    /// The payload `rest` after a header of `header_lines` lines. An ASCII payload with a line
+    /// over [`MAX_LINE_BYTES`] is refused first, by that line's number: the crate splits a
+    /// line into words, so a line is bounded before it is read.
+    pub(super) fn new(
+        rest: &'a [u8],
+        encoding: Encoding,
+        header_lines: usize,
+        file: &str,
+    ) -> Result<Self, MeshError> {
+        if encoding == Encoding::Ascii
+            && let Some(k) = long_line(rest, MAX_LINE_BYTES)
+        {
+            return Err(MeshError::Parse {
+                file: file.to_owned(),
+                line: header_lines + k,
+                what: long_line_message(),
+            });
+        }
+        Ok(Payload {
+            rest,
+            encoding,
+            line: header_lines + 1,
+        })
+    }
+
     /// Element `index` of `def`, and where it was.
     pub(super) fn read<'d, E: PropertyAccess>(
         &mut self,
