@@ -380,3 +380,13 @@ fn every_truncated_glb_names_the_part_it_ends_in() {
         assert!(part && e.contains("truncated"), "{cut}: {e}");
     }
 }
+
+#[test]
+fn a_gltf_version_is_escaped_in_messages() {
+    let version = "{\"asset\":{\"version\":\"3\\u001b[2J\"}}";
+    let e = error(version.as_bytes(), "v.gltf");
+    assert!(
+        e.contains("version 3\\e[2J is not") && !e.contains('\u{1b}'),
+        "{e:?}"
+    );
+}

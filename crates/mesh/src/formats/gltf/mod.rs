@@ -85,7 +85,10 @@ pub(super) fn parse(
     if !version.starts_with("2.") {
         return Err(invalid(
             file,
-            format!("glTF version {version} is not supported (2.x only)"),
+            format!(
+                "glTF version {} is not supported (2.x only)",
+                quote(version, 40)
+            ),
         ));
     }
     // Nothing is read before the placed triangles and the buffers' sizes are known to fit.
