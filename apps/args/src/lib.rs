@@ -28,7 +28,7 @@ use phosphor_math::glam::Vec3;
 use phosphor_mesh::{NormalOptions, NormalSource, Weighting};
 use phosphor_raster::{Antialias, UnknownAntialias};
 use phosphor_scene::Scene;
-use phosphor_scene::view::{CameraOverride, framed_camera, parse_vec3};
+use phosphor_scene::view::{CameraOption, CameraOverride, framed_camera, parse_vec3};
 
 /// Azimuth of the view `--mesh` starts from, degrees (a three-quarter view, as
 /// `phosphor render --mesh`).
@@ -52,17 +52,63 @@ pub struct CameraArgs {
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub up: Option<String>,
     /// Vertical field of view in degrees, in (0, 180).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    pub fov: Option<f32>,
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_given)]
+    pub fov: Option<Given>,
     /// Orbit: degrees about the up axis around the scene's centre (or --target); +90 looks from +X.
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    pub azimuth: Option<f32>,
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_given)]
+    pub azimuth: Option<Given>,
     /// Orbit: degrees above the plane normal to up, in (-90, 90).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
-    pub elevation: Option<f32>,
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_given)]
+    pub elevation: Option<Given>,
     /// Orbit: distance from the centre (> 0). Orbit values left out keep the scene camera's.
-    #[arg(long, value_name = "D", allow_hyphen_values = true)]
-    pub distance: Option<f32>,
+    #[arg(long, value_name = "D", allow_hyphen_values = true, value_parser = parse_given)]
+    pub distance: Option<Given>,
+}
+
+/// A number given on the command line: the single-precision value the renderer uses, and the
+/// text as typed, which messages echo (`--elevation 89.9999999` is 90 in single precision; a
+/// message saying `got 90` would blame a value nobody typed).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Given {
+    /// The value, in single precision.
+    pub value: f32,
+    /// The text as typed.
+    pub text: String,
+}
+
+impl Given {
+    /// A value given as `text` (for tests and callers that build arguments themselves).
+    #[must_use]
+    pub fn new(value: f32, text: &str) -> Given {
+        Given {
+            value,
+            text: text.to_owned(),
+        }
+    }
+
+    /// The text as typed, followed by the single-precision value where it reads differently
+    /// in a range message (`89.9999999 (90 in single precision)`).
+    #[must_use]
+    pub fn echo(&self) -> String {
+        let exact = self.text.trim().parse::<f64>().ok();
+        if exact.is_some_and(|x| x.is_finite() && x != f64::from(self.value)) {
+            format!("{} ({} in single precision)", self.text, self.value)
+        } else {
+            self.text.clone()
+        }
+    }
+}
+
+/// Parses a number flag, keeping its text.
+///
+/// # Errors
+/// Text that is not a number.
+pub fn parse_given(text: &str) -> Result<Given, String> {
+    let value = text
+        .trim()
+        .parse::<f32>()
+        .map_err(|_| format!("expected a number, got `{text}`"))?;
+    Ok(Given::new(value, text))
 }
 
 /// Where `--mesh`'s normals come from (the scene file's `normals.source`).
@@ -173,16 +219,30 @@ pub fn camera_override(args: &CameraArgs) -> Result<CameraOverride, String> {
             .transpose()
             .map_err(|e| format!("{flag}: {e}"))
     };
+    let value = |g: &Option<Given>| g.as_ref().map(|g| g.value);
     let o = CameraOverride {
         eye: vector("--eye", &args.eye)?,
         target: vector("--target", &args.target)?,
         up: vector("--up", &args.up)?,
-        fov_y_deg: args.fov,
-        azimuth_deg: args.azimuth,
-        elevation_deg: args.elevation,
-        distance: args.distance,
+        fov_y_deg: value(&args.fov),
+        azimuth_deg: value(&args.azimuth),
+        elevation_deg: value(&args.elevation),
+        distance: value(&args.distance),
     };
-    o.check().map_err(|e| e.to_string())?;
+    o.check().map_err(|e| {
+        // A range message ends `got VALUE`: the value as typed, not as rounded.
+        let given = match e.option {
+            CameraOption::Fov => &args.fov,
+            CameraOption::Azimuth => &args.azimuth,
+            CameraOption::Elevation => &args.elevation,
+            CameraOption::Distance => &args.distance,
+            _ => &None,
+        };
+        match (given, e.what.rfind("got ")) {
+            (Some(g), Some(at)) => format!("{}: {}got {}", e.option, &e.what[..at], g.echo()),
+            _ => e.to_string(),
+        }
+    })?;
     Ok(o)
 }
 
@@ -240,7 +300,7 @@ mod tests {
         };
         assert!(camera_override(&bad).unwrap_err().starts_with("--eye: "));
         let bad = CameraArgs {
-            fov: Some(0.0),
+            fov: Some(Given::new(0.0, "0")),
             ..CameraArgs::default()
         };
         assert!(camera_override(&bad).unwrap_err().starts_with("--fov: "));
@@ -263,6 +323,28 @@ mod tests {
                 .contains("--mesh only")
         );
         assert!(normal_options(&without_mesh, true).is_ok());
+    }
+
+    #[test]
+    fn values_are_echoed_exactly_as_given() {
+        let bad = CameraArgs {
+            elevation: Some(parse_given("89.9999999").unwrap()),
+            ..CameraArgs::default()
+        };
+        assert_eq!(
+            camera_override(&bad).unwrap_err(),
+            "--elevation: must be between -90 and 90 (exclusive), got 89.9999999 (90 in single \
+             precision)"
+        );
+        let bad = CameraArgs {
+            fov: Some(parse_given("180.0").unwrap()),
+            ..CameraArgs::default()
+        };
+        assert_eq!(
+            camera_override(&bad).unwrap_err(),
+            "--fov: must be between 0 and 180 (exclusive), got 180.0"
+        );
+        assert!(parse_given("ninety").is_err());
     }
 
     #[test]

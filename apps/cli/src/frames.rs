@@ -8,6 +8,7 @@
 //! one frame K). Files are named by the frame number within the whole turntable, so the same
 //! frame gets the same name whichever process renders it.
 
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use crate::CliError;
@@ -76,16 +77,18 @@ pub fn parse_frame_range(text: &str) -> Result<FrameRange, String> {
 }
 
 /// The frames one run renders: all of a turntable, a range of it, or the one still frame.
+/// A range, never a list: `--turntable 4294967295` is counted, not allocated, so that a usage
+/// error about it is immediate.
 ///
 /// # Errors
 /// A range reaching past the turntable (usage).
 pub fn frames_to_render(
     turntable: Option<u32>,
     range: Option<FrameRange>,
-) -> Result<Vec<u32>, CliError> {
+) -> Result<Range<u32>, CliError> {
     match (turntable, range) {
-        (None, _) => Ok(vec![0]),
-        (Some(n), None) => Ok((0..n).collect()),
+        (None, _) => Ok(0..1),
+        (Some(n), None) => Ok(0..n),
         (Some(n), Some(r)) => {
             if r.end > n {
                 return Err(CliError::Usage(format!(
@@ -93,7 +96,7 @@ pub fn frames_to_render(
                     n - 1
                 )));
             }
-            Ok((r.start..r.end).collect())
+            Ok(r.start..r.end)
         }
     }
 }
@@ -271,19 +274,26 @@ mod tests {
     #[test]
     fn frames_must_lie_within_the_turntable() {
         let r = |t| parse_frame_range(t).unwrap();
-        assert_eq!(frames_to_render(None, None).unwrap(), vec![0]);
-        assert_eq!(frames_to_render(Some(3), None).unwrap(), vec![0, 1, 2]);
-        assert_eq!(
-            frames_to_render(Some(8), Some(r("6..8"))).unwrap(),
-            vec![6, 7]
-        );
-        assert_eq!(frames_to_render(Some(8), Some(r("7"))).unwrap(), vec![7]);
+        assert_eq!(frames_to_render(None, None).unwrap(), 0..1);
+        assert_eq!(frames_to_render(Some(3), None).unwrap(), 0..3);
+        assert_eq!(frames_to_render(Some(8), Some(r("6..8"))).unwrap(), 6..8);
+        assert_eq!(frames_to_render(Some(8), Some(r("7"))).unwrap(), 7..8);
         let e = frames_to_render(Some(8), Some(r("6..=8"))).unwrap_err();
         assert_eq!(
             e.to_string(),
             "--frames 6..=8: out of range: --turntable 8 has frames 0..8 (0..=7)"
         );
         assert_eq!(e.exit_code(), 2);
+    }
+
+    #[test]
+    fn turntable_of_four_billion_frames_is_counted_not_listed() {
+        // A list of them was 16 GB, collected before `-o` was checked.
+        let frames = frames_to_render(Some(u32::MAX), None).unwrap();
+        assert_eq!(frames.len(), u32::MAX as usize);
+        let e = output_for(Some(Path::new("x.png")), frames.len(), false).unwrap_err();
+        assert_eq!(e.exit_code(), 2);
+        assert!(e.to_string().contains("4294967295 frames"), "{e}");
     }
 
     #[test]

@@ -52,6 +52,31 @@ fn input_error(e: &OutputError) -> CliError {
     }
 }
 
+/// Whether `out` is the file standard output writes to (`-o /dev/stdout`, or a file stdout
+/// is redirected to): then the image is all that may go there, and the command's own lines
+/// go to stderr.
+#[must_use]
+pub fn is_stdout(out: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::fd::AsFd as _;
+        use std::os::unix::fs::MetadataExt as _;
+        let Ok(fd) = std::io::stdout().as_fd().try_clone_to_owned() else {
+            return false;
+        };
+        let (Ok(stdout), Ok(target)) = (std::fs::File::from(fd).metadata(), std::fs::metadata(out))
+        else {
+            return false;
+        };
+        (stdout.dev(), stdout.ino()) == (target.dev(), target.ino())
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = out;
+        false
+    }
+}
+
 /// Checks before any work that `out` may be written and has a known format.
 pub fn check_output(out: &Path, force: bool) -> Result<Format, CliError> {
     check(out, force).map_err(|e| input_error(&e))?;

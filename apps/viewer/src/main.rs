@@ -497,6 +497,17 @@ fn load(args: &Args, normals: phosphor_mesh::NormalOptions) -> Result<Scene, Str
 }
 
 /// One `error:` line on stderr and exit status 1.
+/// The message when no display can be reached, one sentence: the platform's reason (its own
+/// closing full stop dropped, so the sentence does not end twice) and what to do instead.
+fn no_display(why: &str) -> String {
+    let why = why.trim().trim_end_matches(['.', ';', ':']).trim_end();
+    if why.is_empty() {
+        "no display available; use `phosphor render` to render to a file".to_owned()
+    } else {
+        format!("no display available: {why}; use `phosphor render` to render to a file")
+    }
+}
+
 fn fail(message: &str) -> ExitCode {
     term::tell(&format!("error: {message}"));
     ExitCode::from(1)
@@ -589,9 +600,7 @@ fn main() -> ExitCode {
             term::finish_stdout();
             ExitCode::SUCCESS
         }
-        Err(WindowError::NoDisplay(why)) => fail(&format!(
-            "no display available ({why}); use `phosphor render` to render to a file"
-        )),
+        Err(WindowError::NoDisplay(why)) => fail(&no_display(&why)),
         Err(WindowError::Failed(why)) => fail(&why),
     }
 }
@@ -601,6 +610,20 @@ mod tests {
     #![allow(clippy::unwrap_used)]
 
     use super::*;
+
+    #[test]
+    fn the_no_display_message_is_one_clean_sentence() {
+        assert_eq!(
+            no_display("neither WAYLAND_DISPLAY nor DISPLAY is set."),
+            "no display available: neither WAYLAND_DISPLAY nor DISPLAY is set; use \
+             `phosphor render` to render to a file"
+        );
+        assert!(!no_display("x.").contains(".;"));
+        assert_eq!(
+            no_display(" "),
+            "no display available; use `phosphor render` to render to a file"
+        );
+    }
 
     #[test]
     fn the_printed_camera_block_loads_back_to_the_view_on_screen() {

@@ -48,13 +48,17 @@ fn without_a_display_the_viewer_says_so_and_points_to_render() {
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
-        stderr.starts_with("error: no display available ("),
+        stderr.starts_with("error: no display available"),
         "{stderr}"
     );
+    // One sentence: the platform's reason without its own full stop, then what to do.
     assert!(
-        stderr.contains("use `phosphor render` to render to a file"),
+        stderr
+            .trim_end()
+            .ends_with("; use `phosphor render` to render to a file"),
         "{stderr}"
     );
+    assert!(!stderr.contains(".)") && !stderr.contains(".;"), "{stderr}");
     assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
 }
 

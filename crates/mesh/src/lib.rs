@@ -2,9 +2,15 @@
 //! scan for smoothing groups and line-numbered errors), PLY, STL and glTF 2.0 loading chosen by
 //! extension ([`load_mesh`]), face normals robust for slivers,
 //! vertex normals averaged only within a surface (the lecture notes' `N_v = sum N_k / |sum N_k|`),
-//! tangents, analytic primitives with exact normals, and a render order
+//! MikkTSpace tangents ([`tangents`]), analytic primitives with exact normals, and a render order
 //! ([`Mesh::sort_spatially`]: triangles along a Morton curve, so neighbours in memory are
 //! neighbours in space). Knows nothing of light or pixels.
+//!
+//! Vertex colours (PLY `red green blue`, glTF `COLOR_0`, OBJ `v x y z r g b`) arrive in
+//! [`Mesh::colors`] as linear RGB. Texture maps arrive as references in each [`MtlMaterial`]
+//! (`kd_map`, `ks_map`, `normal_map`): a [`TextureRef`] names a file or holds the encoded bytes
+//! embedded in a glTF, with its [`Wrap`]s; this crate decodes no image, and reads one only
+//! when asked ([`TextureSource::bytes`], through [`open`] with [`MAX_IMAGE_BYTES`]).
 //!
 //! ```
 //! use phosphor_mesh::{parse_obj, primitives, NormalOptions};
@@ -38,11 +44,18 @@
 //!
 //! Loading is near-linear in the file whatever its shape: edges shared by many faces, vertices
 //! shared by many faces ([`normals`] documents the rule at vertices where more than 256 corners
-//! meet) and polygons of many corners ([`triangulate`]). An MTL file is read only when it is a
-//! regular file of at most [`MAX_MTL_BYTES`]; otherwise, as for any bad MTL, the mesh gets the
-//! default material and a warning. Warnings are one line of at most [`MAX_WARNING_CHARS`]
-//! characters. Primitives whose counts come from a file are checked against a memory limit
-//! before anything is allocated ([`primitives::try_uv_sphere`] and its siblings).
+//! meet) and polygons of many corners ([`triangulate`]). Every file is opened as a regular
+//! file only, without blocking, and read up to a cap ([`open`]): [`MAX_MESH_FILE_BYTES`] for a
+//! mesh and for a glTF file's buffers together, [`MAX_MTL_BYTES`] for an MTL file (a bad MTL
+//! only costs the material, with a warning). Lines of text formats are at most
+//! [`MAX_LINE_BYTES`]. The files a glTF names, buffers and images alike, stay in its folder
+//! ([`assets`]); the images embedded in a glTF are copied at most once each and at most
+//! [`MAX_MESH_FILE_BYTES`] together. Warnings are one
+//! line of at most [`MAX_WARNING_CHARS`] characters, and every quote of a file's text in a
+//! message has its control characters escaped ([`sanitize`]). Primitives whose counts come
+//! from a file, and the triangles a glTF file's nodes place, are checked against a memory
+//! limit before anything is allocated ([`primitives::try_uv_sphere`] and its siblings,
+//! [`primitives::MEMORY_BUDGET_BYTES`]).
 //!
 //! # Vertex normals: measured accuracy
 //!
@@ -97,20 +110,26 @@
 //! the most accurate; angle weighting pays off where fans are irregular (the sphere's pole rings,
 //! where its max error is 10 to 80 times below uniform's).
 
+pub mod assets;
 pub mod build;
 pub mod error;
 mod formats;
 mod loader;
 pub mod mesh;
+mod mtl;
 pub mod normals;
+pub mod open;
 mod order;
 pub mod primitives;
+pub mod sanitize;
 mod scan;
 pub mod stats;
 pub mod tangents;
+pub mod texture_ref;
 pub mod topology;
 pub mod triangulate;
 
+pub use assets::{allow_outside_assets, asset_path, read_asset};
 pub use build::TriangleSoup;
 pub use error::MeshError;
 pub use formats::{MeshFormat, load_mesh, load_mesh_with_warnings, parse_mesh_bytes};
@@ -118,7 +137,10 @@ pub use loader::{
     MAX_MTL_BYTES, MAX_WARNING_CHARS, load_obj, load_obj_with_warnings, parse_obj,
     parse_obj_with_warnings,
 };
-pub use mesh::{Mesh, MtlMaterial, fallback_tangent};
+pub use mesh::{Mesh, MtlMaterial};
 pub use normals::{NormalOptions, NormalSource, Weighting, triangle_normal_f64};
+pub use open::{MAX_LINE_BYTES, MAX_MESH_FILE_BYTES, read_file, read_text};
 pub use stats::MeshStats;
+pub use tangents::fallback_tangent;
+pub use texture_ref::{MAX_IMAGE_BYTES, TextureRef, TextureSource, Wrap};
 pub use topology::is_closed_solid;

@@ -6,19 +6,22 @@
 //! `o`/`g`/`usemtl` model; docs/conventions.md, "Dependency facts"), so faces on both sides of a
 //! group or material boundary share a position and may be smoothed together when the rule allows
 //! it. Texture coordinates are kept only when every polygon corner names a `vt`, authored normals
-//! only when every corner names a `vn` (otherwise normals are computed).
+//! only when every corner names a `vn` (otherwise normals are computed). Vertex colours
+//! (`v x y z r g b`, on every `v` line or none) are taken as linear RGB, clamped to `[0, 1]`.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
-use std::io::Read;
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
 
-use crate::build::{TriangleSoup, weld_key};
+use crate::build::{TriangleSoup, unit_color, weld_key};
 use crate::error::MeshError;
 use crate::mesh::{Mesh, MtlMaterial};
+use crate::mtl::{self, MaterialMaps};
 use crate::normals::{NormalOptions, NormalSource};
+use crate::open::{MAX_LINE_BYTES, MAX_MESH_FILE_BYTES, long_line, long_line_message, read_file};
+use crate::sanitize::quote;
 use crate::scan::{Scan, scan};
 use crate::triangulate::triangulate;
 
@@ -36,7 +39,7 @@ pub fn load_obj_with_warnings(
     opts: &NormalOptions,
 ) -> Result<(Mesh, Vec<String>), MeshError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+    let bytes = read_file(path, MAX_MESH_FILE_BYTES).map_err(|source| MeshError::Io {
         file: file.clone(),
         source,
     })?;
@@ -50,10 +53,11 @@ pub fn load_obj_with_warnings(
     })?;
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let warnings = RefCell::new(Vec::new());
+    let maps = RefCell::new(Vec::new());
     let loader = |mtl: &Path| {
         let full = dir.join(mtl);
         match read_mtl(&full) {
-            Ok(b) => tobj::load_mtl_buf(&mut strip_bom_bytes(&b)).inspect_err(|e| {
+            Ok(b) => load_mtl(&b, &full, &maps, &warnings).inspect_err(|e| {
                 warn(
                     &warnings,
                     format!("{}: {e}; using the default material", full.display()),
@@ -68,12 +72,14 @@ pub fn load_obj_with_warnings(
             }
         }
     };
-    let mesh = parse_with(&text, &file, loader, opts, &warnings)?;
+    let mesh = parse_with(&text, &file, loader, opts, &warnings, &maps)?;
     Ok((mesh, warnings.into_inner()))
 }
 
 /// Parses OBJ text; `name` is used in messages, `mtl` is the text of the MTL file the OBJ's
-/// `mtllib` names (`None`: no materials).
+/// `mtllib` names (`None`: no materials). `name` is also taken as the OBJ's path: texture
+/// maps resolve against the folder of `name`'s folder joined with the `mtllib` name, as
+/// [`load_obj`] resolves them against the MTL file's folder.
 pub fn parse_obj(
     text: &str,
     name: &str,
@@ -91,13 +97,23 @@ pub fn parse_obj_with_warnings(
     opts: &NormalOptions,
 ) -> Result<(Mesh, Vec<String>), MeshError> {
     let warnings = RefCell::new(Vec::new());
-    let loader = |_: &Path| match mtl {
-        Some(t) => tobj::load_mtl_buf(&mut strip_bom(t).as_bytes()).inspect_err(|e| {
+    let maps = RefCell::new(Vec::new());
+    let obj_dir = Path::new(name).parent().unwrap_or(Path::new(""));
+    let loader = |mtl_name: &Path| match mtl.map(|t| (t, mtl_lines(t.as_bytes()))) {
+        Some((_, Err(why))) => {
             warn(
                 &warnings,
-                format!("{name}: MTL: {e}; using the default material"),
+                format!("{name}: MTL: {why}; using the default material"),
             );
-        }),
+            Err(tobj::LoadError::OpenFileFailed)
+        }
+        Some((t, Ok(()))) => load_mtl(t.as_bytes(), &obj_dir.join(mtl_name), &maps, &warnings)
+            .inspect_err(|e| {
+                warn(
+                    &warnings,
+                    format!("{name}: MTL: {e}; using the default material"),
+                );
+            }),
         None => {
             warn(
                 &warnings,
@@ -106,8 +122,35 @@ pub fn parse_obj_with_warnings(
             Err(tobj::LoadError::OpenFileFailed)
         }
     };
-    let mesh = parse_with(text, name, loader, opts, &warnings)?;
+    let mesh = parse_with(text, name, loader, opts, &warnings, &maps)?;
     Ok((mesh, warnings.into_inner()))
+}
+
+/// Reads an MTL file's bytes (`path` names it and its folder resolves texture maps): colours
+/// through tobj, texture maps through [`mtl::scan`], whose maps are appended to `maps` in
+/// `newmtl` order when tobj accepts the library.
+fn load_mtl(
+    bytes: &[u8],
+    path: &Path,
+    maps: &RefCell<Vec<MaterialMaps>>,
+    warnings: &RefCell<Vec<String>>,
+) -> tobj::MTLLoadResult {
+    let bytes = strip_bom_bytes(bytes);
+    let Ok(text) = std::str::from_utf8(bytes) else {
+        // tobj names the problem.
+        return tobj::load_mtl_buf(&mut &bytes[..]);
+    };
+    let result = tobj::load_mtl_buf(&mut mtl::for_tobj(text).as_bytes());
+    if result.is_ok() {
+        let mut found = Vec::new();
+        let dir = path.parent().unwrap_or(Path::new(""));
+        let scanned = mtl::scan(text, &path.display().to_string(), dir, &mut found);
+        maps.borrow_mut().extend(scanned);
+        for w in found {
+            warn(warnings, w);
+        }
+    }
+    result
 }
 
 /// Largest MTL file read, in bytes: a material library is a few kilobytes, and a bad one is
@@ -124,6 +167,8 @@ const WARNING_TAIL_CHARS: usize = 80;
 /// Pushes `msg`, cut to [`MAX_WARNING_CHARS`] characters: its start (the file and line) and
 /// its end (what is wrong, what happens instead), the cut in between marked by `...`.
 fn warn(warnings: &RefCell<Vec<String>>, msg: String) {
+    // Names and tobj's messages quote the file: its control characters are escaped.
+    let msg = quote(&msg, usize::MAX);
     let count = msg.chars().count();
     let msg = if count > MAX_WARNING_CHARS {
         let head = MAX_WARNING_CHARS - 3 - WARNING_TAIL_CHARS;
@@ -170,33 +215,21 @@ fn strip_bom_bytes(bytes: &[u8]) -> &[u8] {
     bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
 }
 
-/// Reads an MTL file: regular files only (a FIFO or device named by `mtllib` would block or
-/// never end), at most [`MAX_MTL_BYTES`]. The error is the reason, for a warning.
+/// Reads an MTL file: a regular file of at most [`MAX_MTL_BYTES`], opened without blocking
+/// (a FIFO or device named by `mtllib` would block or never end), lines of at most
+/// [`MAX_LINE_BYTES`]. The error is the reason, for a warning.
 fn read_mtl(path: &Path) -> Result<Vec<u8>, String> {
-    let over = |len: u64| {
-        format!(
-            "MTL file of {len} bytes is over the {} MiB limit",
-            MAX_MTL_BYTES >> 20
-        )
-    };
-    // Metadata first: opening a FIFO for reading blocks until a writer appears.
-    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read: {e}"))?;
-    if !meta.is_file() {
-        return Err("cannot read: not a regular file".to_owned());
-    }
-    if meta.len() > MAX_MTL_BYTES {
-        return Err(over(meta.len()));
-    }
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot read: {e}"))?;
-    let mut bytes = Vec::new();
-    // The file may grow between the check and the read: never take more than the cap.
-    file.take(MAX_MTL_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read: {e}"))?;
-    if bytes.len() as u64 > MAX_MTL_BYTES {
-        return Err(over(bytes.len() as u64));
-    }
+    let bytes = read_file(path, MAX_MTL_BYTES).map_err(|e| format!("cannot read: {e}"))?;
+    mtl_lines(&bytes)?;
     Ok(bytes)
+}
+
+/// Refuses MTL text with a line over [`MAX_LINE_BYTES`] (tobj copies every line).
+fn mtl_lines(bytes: &[u8]) -> Result<(), String> {
+    match long_line(bytes, MAX_LINE_BYTES) {
+        Some(line) => Err(format!("line {line}: {}", long_line_message())),
+        None => Ok(()),
+    }
 }
 
 fn convert_material(m: &tobj::Material) -> MtlMaterial {
@@ -215,6 +248,7 @@ fn convert_material(m: &tobj::Material) -> MtlMaterial {
             .shininess
             .filter(|s| s.is_finite() && *s >= 0.0)
             .unwrap_or(d.ns),
+        ..d
     }
 }
 
@@ -231,6 +265,7 @@ fn parse_with<ML: Fn(&Path) -> tobj::MTLLoadResult>(
     mtl_loader: ML,
     opts: &NormalOptions,
     warnings: &RefCell<Vec<String>>,
+    maps: &RefCell<Vec<MaterialMaps>>,
 ) -> Result<Mesh, MeshError> {
     // A UTF-8 byte-order mark is not part of the first statement.
     let text = strip_bom(text);
@@ -249,9 +284,27 @@ fn parse_with<ML: Fn(&Path) -> tobj::MTLLoadResult>(
     };
     let (models, materials) = tobj::load_obj_buf(&mut text.as_bytes(), &load_opts, mtl_loader)
         .map_err(|e| invalid(file, format!("tobj: {e}")))?;
-    let materials: Vec<MtlMaterial> = materials
+    let mut materials: Vec<MtlMaterial> = materials
         .map(|m| m.iter().map(convert_material).collect())
         .unwrap_or_default();
+    let maps = maps.take();
+    if maps.len() == materials.len() {
+        for (m, maps) in materials.iter_mut().zip(maps) {
+            m.kd_map = maps.kd_map;
+            m.ks_map = maps.ks_map;
+            m.normal_map = maps.normal_map;
+            m.unused = maps.unused;
+        }
+    } else {
+        warn(
+            warnings,
+            format!(
+                "{file}: MTL: {} materials but {} newmtl blocks scanned; texture maps not read",
+                materials.len(),
+                maps.len()
+            ),
+        );
+    }
     for (line, name) in &scanned.usemtl {
         if !materials.iter().any(|m| &m.name == name) {
             warn(
@@ -296,6 +349,8 @@ fn assemble(
     let mut weld: HashMap<[u32; 3], u32> = HashMap::new();
     let (mut uvs, mut uv_ix) = (Vec::new(), Vec::new());
     let (mut vns, mut vn_ix) = (Vec::new(), Vec::new());
+    let (mut colors, mut color_ix) = (Vec::new(), Vec::new());
+    let mut use_color = scanned.has_vertex_colors;
     let mut use_uv = scanned.all_corners_have_uv;
     let mut use_vn = scanned.all_corners_have_normal;
     let mut groups = Vec::new();
@@ -309,6 +364,14 @@ fn assemble(
         };
         use_uv &= m.texcoord_indices.len() == m.indices.len();
         use_vn &= m.normal_indices.len() == m.indices.len();
+        // tobj gives one colour per position it emits for the model, in the same order.
+        use_color &= m.vertex_color.len() == m.positions.len();
+        let color_base = colors.len() as u32;
+        colors.extend(
+            m.vertex_color
+                .chunks_exact(3)
+                .map(|c| unit_color(Vec3::new(c[0], c[1], c[2]))),
+        );
         let (uv_base, vn_base) = (uvs.len() as u32, vns.len() as u32);
         uvs.extend(m.texcoords.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])));
         vns.extend(
@@ -352,6 +415,7 @@ fn assemble(
                     |v: &Vec<u32>, base: u32, k: usize| v.get(start + k).map_or(0, |&i| base + i);
                 uv_ix.push(t.map(|k| at(&m.texcoord_indices, uv_base, k)));
                 vn_ix.push(t.map(|k| at(&m.normal_indices, vn_base, k)));
+                color_ix.push(t.map(|k| color_base + corners[k]));
                 groups.push(info.group);
                 soup.material_ids.push(material);
                 soup.polygon_ids.push(face as u32);
@@ -368,6 +432,9 @@ fn assemble(
     }
     if use_uv && !uvs.is_empty() {
         soup.uvs = Some((uvs, uv_ix));
+    }
+    if use_color && !colors.is_empty() {
+        soup.colors = Some((colors, color_ix));
     }
     if use_vn && !vns.is_empty() {
         soup.normals = Some((vns, vn_ix));

@@ -4,8 +4,10 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use crate::normals::triangle_normal_f64;
+use crate::texture_ref::TextureRef;
 
-/// A material from an MTL file (the subset the illumination model uses).
+/// A material from an MTL file or a glTF material (the subset the illumination model uses),
+/// with the texture maps it names.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MtlMaterial {
     /// `newmtl` name.
@@ -18,6 +20,16 @@ pub struct MtlMaterial {
     pub ks: Vec3,
     /// Specular exponent `Ns` (default 1).
     pub ns: f32,
+    /// Diffuse (base colour) map: MTL `map_Kd`, glTF `baseColorTexture`; it multiplies `kd`.
+    pub kd_map: Option<TextureRef>,
+    /// Specular colour map: MTL `map_Ks`; it multiplies `ks`.
+    pub ks_map: Option<TextureRef>,
+    /// Tangent-space normal map (MikkTSpace, +Y up) and its scale (MTL `norm` with `-bm`,
+    /// glTF `normalTexture` with `scale`; 1 when not given).
+    pub normal_map: Option<(TextureRef, f32)>,
+    /// Statements and maps the file gives that Phosphor does not use (`d`, `map_d`, `bump`,
+    /// `refl`, ...), each once in order of appearance, for the caller to warn about once.
+    pub unused: Vec<String>,
 }
 
 impl Default for MtlMaterial {
@@ -28,6 +40,10 @@ impl Default for MtlMaterial {
             kd: Vec3::splat(0.8),
             ks: Vec3::ZERO,
             ns: 1.0,
+            kd_map: None,
+            ks_map: None,
+            normal_map: None,
+            unused: Vec::new(),
         }
     }
 }
@@ -35,8 +51,8 @@ impl Default for MtlMaterial {
 /// An indexed triangle mesh.
 ///
 /// Invariants kept by every constructor in this crate: `normals` has one unit, finite entry per
-/// position; `uvs` and `tangents`, when present, have one entry per position; every index is in
-/// range; `surface_ids`, `material_ids` and `smoothing_groups` have one entry per triangle.
+/// position; `uvs`, `colors` and `tangents`, when present, have one entry per position; every
+/// index is in range; `surface_ids`, `material_ids` and `smoothing_groups` have one entry per triangle.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
     /// One per vertex (vertices are split where surfaces meet).
@@ -45,6 +61,9 @@ pub struct Mesh {
     pub normals: Vec<Vec3>,
     /// Texture coordinates, same length as `positions` when present.
     pub uvs: Option<Vec<Vec2>>,
+    /// Vertex colours, linear RGB in `[0, 1]`, same length as `positions` when present (PLY
+    /// `red green blue`, glTF `COLOR_0`, OBJ `v x y z r g b`; docs/mesh-formats.md).
+    pub colors: Option<Vec<Vec3>>,
     /// `xyz` unit tangent (perpendicular to the normal), `w` = handedness (+1/-1) so that
     /// `bitangent = w * normal.cross(tangent)`; same length as `positions` when present.
     pub tangents: Option<Vec<Vec4>>,
@@ -136,20 +155,8 @@ impl Mesh {
             .map_or(0.0, |(_, a2)| a2)
     }
 
-    /// Fills `tangents`: from the uvs where there are any (see [`crate::tangents`]), otherwise
-    /// [`fallback_tangent`] of each normal (any unit vector perpendicular to it, `w = +1`).
-    pub fn ensure_tangents(&mut self) {
-        let tangents = match &self.uvs {
-            Some(uvs) => {
-                crate::tangents::compute(&self.positions, &self.normals, uvs, &self.indices)
-            }
-            None => self.normals.iter().map(|&n| fallback_tangent(n)).collect(),
-        };
-        self.tangents = Some(tangents);
-    }
-
     /// True when every invariant in the type docs holds (lengths, index ranges, unit finite
-    /// normals and tangents). Used by the tests; cheap enough for debug assertions.
+    /// normals and tangents, colours in `[0, 1]`). Used by the tests; cheap enough for debug assertions.
     #[must_use]
     pub fn is_consistent(&self) -> bool {
         let n = self.positions.len();
@@ -160,6 +167,11 @@ impl Mesh {
                 .uvs
                 .as_ref()
                 .is_none_or(|u| u.len() == n && u.iter().all(|x| x.is_finite()))
+            && self.colors.as_ref().is_none_or(|c| {
+                c.len() == n
+                    && c.iter()
+                        .all(|x| x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all())
+            })
             && self.tangents.as_ref().is_none_or(|ts| {
                 ts.len() == n && ts.iter().all(|x| unit(x.truncate()) && x.w.abs() == 1.0)
             })
@@ -175,57 +187,9 @@ impl Mesh {
     }
 }
 
-/// Tangent for bump mapping where the mesh gives no uv direction: a unit vector perpendicular
-/// to `n`, continuous except on one great circle, from Duff et al., "Building an Orthonormal
-/// Basis, Revisited" (JCGT 2017). `w` is +1. A non-unit or non-finite `n` is treated as +Z.
-#[must_use]
-pub fn fallback_tangent(n: Vec3) -> Vec4 {
-    let n = phosphor_math::safe_normalize(n, Vec3::Z);
-    let sign = 1.0_f32.copysign(n.z);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    let t = Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    phosphor_math::safe_normalize(t, Vec3::X).extend(1.0)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use proptest::prelude::*;
-
-    proptest! {
-        #[test]
-        fn fallback_tangent_is_unit_and_perpendicular(x in -1.0f32..1.0, y in -1.0f32..1.0, z in -1.0f32..1.0) {
-            let n = Vec3::new(x, y, z);
-            prop_assume!(n.length() > 1e-3);
-            let n = n.normalize();
-            let t = fallback_tangent(n);
-            prop_assert!((t.truncate().length() - 1.0).abs() < 1e-5);
-            prop_assert!(t.truncate().dot(n).abs() < 1e-5);
-        }
-    }
-
-    #[test]
-    fn fallback_tangent_handles_poles_and_garbage() {
-        for n in [Vec3::Z, Vec3::NEG_Z, Vec3::X, Vec3::ZERO, Vec3::NAN] {
-            let t = fallback_tangent(n);
-            assert!(t.is_finite() && (t.truncate().length() - 1.0).abs() < 1e-6);
-        }
-    }
-
-    #[test]
-    fn ensure_tangents_without_uvs_uses_the_fallback() {
-        let mut m = crate::primitives::cube(1.0);
-        m.uvs = None;
-        m.ensure_tangents();
-        assert!(m.is_consistent());
-        let ts = m.tangents.as_ref().expect("filled");
-        assert!(
-            ts.iter()
-                .zip(&m.normals)
-                .all(|(t, n)| t.truncate().dot(*n).abs() < 1e-6)
-        );
-    }
 
     #[test]
     fn normalize_unit_leaves_a_single_point_finite() {

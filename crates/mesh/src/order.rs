@@ -6,7 +6,7 @@
 //! vertices from everywhere in the vertex arrays, and waits on memory for most of them. Along a
 //! Morton curve, triangles that follow each other are near each other in space, hence on screen
 //! from any viewpoint, and share vertices that are still in cache. The surface is unchanged:
-//! the same triangles with the same winding, normals, uvs and tangents, only stored in another
+//! the same triangles with the same winding, normals, uvs, colours and tangents, only stored in another
 //! order.
 
 use crate::mesh::Mesh;
@@ -42,7 +42,7 @@ impl Mesh {
     /// Reorders the triangles along a Morton curve through their centroids (ties keep their
     /// order) and renumbers the vertices in order of first use, for memory locality when
     /// rendering (see the module docs). Per-triangle data (surface, material and smoothing ids)
-    /// and per-vertex data (normals, uvs, tangents) move with their triangles and vertices;
+    /// and per-vertex data (normals, uvs, colours, tangents) move with their triangles and vertices;
     /// vertices no triangle uses go to the end, in their old order. Deterministic.
     pub fn sort_spatially(&mut self) {
         let n = self.positions.len();
@@ -107,6 +107,9 @@ impl Mesh {
         permute(&mut self.normals, &old_of);
         if let Some(uvs) = &mut self.uvs {
             permute(uvs, &old_of);
+        }
+        if let Some(colors) = &mut self.colors {
+            permute(colors, &old_of);
         }
         if let Some(tangents) = &mut self.tangents {
             permute(tangents, &old_of);

@@ -20,7 +20,9 @@
 //! ```
 //!
 //! All primitives are centred on the origin, counter-clockwise seen from outside. Sphere,
-//! cylinder, torus, plane and cube carry uvs and tangents.
+//! cylinder, torus, plane and cube carry uvs and tangents; the tangents are the uv gradient,
+//! which on these smooth parametrisations agrees with MikkTSpace (what [`crate::tangents`]
+//! computes for meshes from files) to within the tessellation, in memory the footprint counts.
 
 use std::collections::TryReserveError;
 use std::f64::consts::{PI, TAU};
@@ -41,6 +43,11 @@ fn size(x: f32) -> f32 {
 fn count(n: u32, min: u32) -> u32 {
     n.clamp(min, MAX_TESSELLATION)
 }
+
+/// The memory a mesh whose size a file sets may take, checked before it is allocated: the
+/// primitives of a scene share it (`phosphor_scene::PRIMITIVE_BUDGET_BYTES` is this figure),
+/// and so do the copies of the meshes a glTF file's nodes place.
+pub const MEMORY_BUDGET_BYTES: u64 = 4_000_000_000;
 
 /// Bytes per vertex at the peak of a build: position, normal, uv and tangent (48) plus the
 /// tangent pass's two f64 sums (48).
@@ -297,9 +304,9 @@ impl Builder {
     fn finish(mut self) -> Result<Mesh, TryReserveError> {
         let m = &mut self.mesh;
         m.tangents = Some(if self.fallible {
-            tangents::try_compute(&m.positions, &m.normals, &self.uvs, &m.indices)?
+            tangents::try_gradient_tangents(&m.positions, &m.normals, &self.uvs, &m.indices)?
         } else {
-            tangents::compute(&m.positions, &m.normals, &self.uvs, &m.indices)
+            tangents::gradient_tangents(&m.positions, &m.normals, &self.uvs, &m.indices)
         });
         m.uvs = Some(self.uvs);
         Ok(self.mesh)

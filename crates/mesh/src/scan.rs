@@ -35,6 +35,8 @@ pub(crate) struct Scan {
     pub has_mtllib: bool,
     /// `f` statements with fewer than 3 corners, which tobj drops: (line, corners).
     pub short_faces: Vec<(usize, usize)>,
+    /// Every `v` line has a colour (`v x y z r g b`); the scan refuses colours on some only.
+    pub has_vertex_colors: bool,
 }
 
 struct Counts {
@@ -88,9 +90,9 @@ fn numbers<'a>(
     Ok(out)
 }
 
-/// At most 32 characters of user text in a message.
+/// At most 32 characters of user text in a message, control characters escaped.
 fn clip(s: &str) -> String {
-    s.chars().take(32).collect()
+    crate::sanitize::quote(s, 32)
 }
 
 /// Resolves one 1-based (or negative, relative) index against `count` elements seen so far.
@@ -230,6 +232,10 @@ pub(crate) fn scan(text: &str, file: &str) -> Result<Scan, MeshError> {
     let mut group = 0u32;
     for (i, text_line) in text.lines().enumerate() {
         let line = i + 1;
+        // tobj copies every line and splits it into words: a line is bounded first.
+        if text_line.len() > crate::open::MAX_LINE_BYTES {
+            return Err(err(file, line, crate::open::long_line_message()));
+        }
         let mut words = text_line.split_whitespace();
         match words.next() {
             Some("v") => vertex_line(&mut words, &mut counts, file, line)?,
@@ -281,6 +287,7 @@ pub(crate) fn scan(text: &str, file: &str) -> Result<Scan, MeshError> {
             _ => {}
         }
     }
+    out.has_vertex_colors = counts.colored == Some(true);
     if out.faces.is_empty() {
         out.all_corners_have_uv = false;
         out.all_corners_have_normal = false;

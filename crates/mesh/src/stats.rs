@@ -26,6 +26,8 @@ pub struct MeshStats {
     pub materials: usize,
     /// Zero-area triangles.
     pub degenerate: usize,
+    /// Whether the vertices carry colours ([`Mesh::colors`]).
+    pub colors: bool,
     /// Axis-aligned bounds `(min, max)`.
     pub bounds: (Vec3, Vec3),
 }
@@ -50,6 +52,7 @@ impl Mesh {
             smoothing_groups: groups.len(),
             materials: self.materials.len(),
             degenerate: self.degenerate_count(),
+            colors: self.colors.is_some(),
             bounds: self.bounds(),
         }
     }
@@ -69,6 +72,11 @@ impl fmt::Display for MeshStats {
         writeln!(f, "smoothing groups: {}", self.smoothing_groups)?;
         writeln!(f, "materials:        {}", self.materials)?;
         writeln!(f, "degenerate faces: {}", self.degenerate)?;
+        writeln!(
+            f,
+            "vertex colours:   {}",
+            if self.colors { "yes" } else { "no" }
+        )?;
         write!(
             f,
             "bounds:           ({}, {}, {}) .. ({}, {}, {})",

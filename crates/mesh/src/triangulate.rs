@@ -12,14 +12,27 @@
 //! candidates from a work queue: a corner that fails is tested again only when a neighbour is
 //! clipped (its ear changed) or when the corner found inside its ear is clipped, and the
 //! neighbours of a clipped ear go to the back of the queue, so a lap clips every other corner.
-//! On convex, star-shaped, comb and spiral polygons the work is near-linear and no corner
-//! collects a fan of thousands of triangles. Limits: a polygon whose Newell normal is zero
-//! (degenerate or figure-eight), and the remainder of a self-intersecting polygon where no ear
-//! exists, are fanned from a corner instead.
+//! The k-d tree skips every node whose box lies outside one edge of the candidate ear, so a
+//! long thin ear does not visit the polygon's whole width. On convex, star-shaped, comb and
+//! spiral polygons the work is near-linear and no corner collects a fan of thousands of
+//! triangles; on self-intersecting ones (random corners) it is near-linear too, and past
+//! [`WORK_PER_CORNER`] units of work per corner, which no polygon measured comes near, the
+//! remainder is fanned, so no polygon takes more than linear work. Limits: a polygon whose
+//! Newell normal is zero (degenerate or figure-eight), and the remainder of a
+//! self-intersecting polygon where no ear exists, are fanned from a corner instead: a
+//! self-intersecting polygon has no inside to tile, and the fan keeps its corners and its
+//! `n - 2` triangles.
 
 use std::collections::VecDeque;
 
 use glam::{DVec2, DVec3, Vec3};
+
+/// Most work the indexed pass may do per corner (queue entries taken and k-d tree nodes
+/// visited) before the rest of the polygon is fanned. Simple polygons measured take 15 to 55
+/// (convex, star, comb and spiral polygons of up to 640,000 corners; random self-intersecting
+/// ones 15 to 19), so this is reached only by a polygon built to defeat the pruning, and bounds
+/// the time of any polygon to linear.
+pub const WORK_PER_CORNER: u64 = 256;
 
 /// Largest polygon clipped by the exhaustive pass (every candidate ear tested against every
 /// remaining corner, cubic in the worst case); larger ones take the indexed pass.
@@ -62,6 +75,17 @@ fn cross(a: DVec2, b: DVec2, c: DVec2) -> f64 {
 /// Whether `x` lies inside triangle `abc` or on its boundary (`abc` counter-clockwise).
 fn inside_or_on(a: DVec2, b: DVec2, c: DVec2, x: DVec2) -> bool {
     cross(a, b, x) >= 0.0 && cross(b, c, x) >= 0.0 && cross(c, a, x) >= 0.0
+}
+
+/// Whether the box `lo..hi` lies wholly outside one edge of the counter-clockwise triangle
+/// `t` (every corner strictly right of it): then no point of the box is in the triangle. A
+/// long thin ear has a box that covers much of the polygon; its edges rule most of it out.
+fn outside_an_edge(t: [DVec2; 3], lo: DVec2, hi: DVec2) -> bool {
+    let corners = [lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)];
+    (0..3).any(|k| {
+        let (p, q) = (t[k], t[(k + 1) % 3]);
+        corners.iter().all(|&x| cross(p, q, x) < 0.0)
+    })
 }
 
 /// The polygon projected onto the plane of its Newell normal, counter-clockwise; `None` when
@@ -238,18 +262,26 @@ impl Blockers {
 
     /// An active corner other than the ear's own inside or on the ear `[a, b, c]`, if any;
     /// `stack` is scratch space.
-    fn blocker(&self, q: &[DVec2], ear: [usize; 3], stack: &mut Vec<u32>) -> Option<usize> {
+    fn blocker(
+        &self,
+        q: &[DVec2],
+        ear: [usize; 3],
+        stack: &mut Vec<u32>,
+        work: &mut u64,
+    ) -> Option<usize> {
         let [a, b, c] = ear.map(|i| q[i]);
         let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
         stack.clear();
         stack.push(0);
         while let Some(n) = stack.pop() {
+            *work += 1;
             let node = &self.nodes[n as usize];
             if node.active == 0
                 || node.lo.x > hi.x
                 || node.lo.y > hi.y
                 || node.hi.x < lo.x
                 || node.hi.y < lo.y
+                || outside_an_edge([a, b, c], node.lo, node.hi)
             {
                 continue;
             }
@@ -272,6 +304,14 @@ impl Blockers {
 /// Ear clipping for large polygons: candidates tested against the corners that were not
 /// strictly convex, found through a k-d tree, in a work queue (see the module docs).
 fn indexed(q: &[DVec2]) -> Vec<[usize; 3]> {
+    let budget = (q.len() as u64).saturating_mul(WORK_PER_CORNER);
+    indexed_counted(q, budget).0
+}
+
+/// [`indexed`] within `budget` units of work (queue entries taken and k-d tree nodes
+/// visited), past which the remainder is fanned; and the work it took.
+fn indexed_counted(q: &[DVec2], budget: u64) -> (Vec<[usize; 3]>, u64) {
+    let mut work = 0u64;
     let n = q.len();
     let mut next: Vec<usize> = (1..=n).map(|i| i % n).collect();
     let mut prev: Vec<usize> = (0..n).map(|i| (i + n - 1) % n).collect();
@@ -297,7 +337,12 @@ fn indexed(q: &[DVec2]) -> Vec<[usize; 3]> {
     let mut left = n;
     let mut alive = 0usize;
     while left > 3 {
-        let Some((ear, st)) = queue.pop_front() else {
+        let next_entry = if work > budget {
+            None // past the budget: fanned below, as a remainder without an ear is
+        } else {
+            queue.pop_front()
+        };
+        let Some((ear, st)) = next_entry else {
             // Every candidate failed since it last changed: a self-intersecting or
             // numerically degenerate remainder with no ear.
             let mut rest = Vec::with_capacity(left);
@@ -307,8 +352,9 @@ fn indexed(q: &[DVec2]) -> Vec<[usize; 3]> {
                 j = next[j];
             }
             out.extend(fan(&rest));
-            return out;
+            return (out, work);
         };
+        work += 1;
         if removed[ear] || st != stamp[ear] {
             continue;
         }
@@ -317,7 +363,7 @@ fn indexed(q: &[DVec2]) -> Vec<[usize; 3]> {
             // Tested again when a neighbour is clipped, the only change that can make it convex.
             continue;
         }
-        if let Some(j) = blockers.blocker(q, [ia, ear, ic], &mut scratch) {
+        if let Some(j) = blockers.blocker(q, [ia, ear, ic], &mut scratch, &mut work) {
             waiting[j].push(ear as u32);
             continue;
         }
@@ -343,211 +389,8 @@ fn indexed(q: &[DVec2]) -> Vec<[usize; 3]> {
         }
     }
     out.push([prev[alive], alive, next[alive]]);
-    out
+    (out, work)
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn area(points: &[Vec3], tris: &[[usize; 3]]) -> f32 {
-        tris.iter()
-            .map(|t| {
-                let (a, b, c) = (points[t[0]], points[t[1]], points[t[2]]);
-                (b - a).cross(c - a).z * 0.5
-            })
-            .sum()
-    }
-
-    #[test]
-    fn concave_polygon_is_ear_clipped_not_fanned() {
-        // An arrow / chevron: fanning from corner 0 would cover area outside the polygon.
-        let pts = [
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(2.0, 1.0, 0.0),
-            Vec3::new(0.0, 2.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-        ];
-        // A fan from corner 0 would use the diagonal 0-2, which lies outside the polygon.
-        let tris = triangulate(&pts);
-        assert_eq!(tris.len(), 2);
-        // Every triangle is counter-clockwise (same winding as the polygon) and the total area
-        // equals the polygon's (1.0): no triangle outside it.
-        for t in &tris {
-            assert!(area(&pts, &[*t]) > 0.0);
-        }
-        assert!((area(&pts, &tris) - 1.0).abs() < 1e-6);
-    }
-
-    #[test]
-    fn clockwise_polygon_keeps_its_winding() {
-        let pts = [Vec3::ZERO, Vec3::Y, Vec3::new(1.0, 1.0, 0.0), Vec3::X];
-        let tris = triangulate(&pts);
-        assert!((area(&pts, &tris) + 1.0).abs() < 1e-6);
-    }
-
-    #[test]
-    fn degenerate_and_huge_polygons_are_fanned_with_n_minus_2_triangles() {
-        assert_eq!(triangulate(&[Vec3::ZERO; 5]).len(), 3);
-        let big: Vec<Vec3> = (0..MAX_EAR_CLIPPED + 1)
-            .map(|i| {
-                let a = i as f32 / (MAX_EAR_CLIPPED + 1) as f32 * std::f32::consts::TAU;
-                Vec3::new(a.cos(), a.sin(), 0.0)
-            })
-            .collect();
-        assert_eq!(triangulate(&big).len(), MAX_EAR_CLIPPED - 1);
-    }
-
-    /// Checks that `tris` tile the simple counter-clockwise polygon `pts`: `n - 2` triangles,
-    /// each counter-clockwise (none folded outside), adding up to the polygon's area.
-    fn assert_tiles(pts: &[Vec3], tris: &[[usize; 3]]) {
-        assert_eq!(tris.len(), pts.len() - 2);
-        let shoelace: f64 = (0..pts.len())
-            .map(|i| {
-                let (a, b) = (pts[i].as_dvec3(), pts[(i + 1) % pts.len()].as_dvec3());
-                a.x * b.y - b.x * a.y
-            })
-            .sum::<f64>()
-            * 0.5;
-        let mut sum = 0.0;
-        for t in tris {
-            let [a, b, c] = t.map(|i| pts[i].as_dvec3());
-            let twice = (b - a).cross(c - a).z;
-            assert!(twice > 0.0, "triangle {t:?} is folded or flat");
-            sum += twice * 0.5;
-        }
-        assert!(
-            (sum - shoelace).abs() < 1e-9 * shoelace.abs().max(1.0),
-            "{sum} vs {shoelace}"
-        );
-    }
-
-    #[test]
-    fn huge_convex_polygon_is_clipped_without_a_fan() {
-        let n = 10_000;
-        let pts: Vec<Vec3> = (0..n)
-            .map(|i| {
-                let a = i as f64 / n as f64 * std::f64::consts::TAU;
-                Vec3::new(a.cos() as f32, a.sin() as f32, 0.0)
-            })
-            .collect();
-        let tris = triangulate(&pts);
-        assert_tiles(&pts, &tris);
-        // Every other corner per lap: no corner is shared by more than a few triangles per
-        // halving of the polygon (a fan would give one corner n - 2 of them).
-        let mut valence = vec![0usize; n];
-        for t in &tris {
-            for &i in t {
-                valence[i] += 1;
-            }
-        }
-        let most = valence.iter().copied().max().unwrap_or(0);
-        assert!(most <= 2 * 14 + 2, "a corner is shared by {most} triangles");
-    }
-
-    #[test]
-    fn huge_comb_is_ear_clipped_correctly() {
-        // A comb: 2000 tapered teeth of height 10 on a bar, 6003 corners, deeply concave;
-        // a fan from any corner would cover the gaps between the teeth.
-        let teeth = 2000;
-        let right = 2.0 * teeth as f32;
-        let mut pts = vec![
-            Vec3::new(0.0, -1.0, 0.0),
-            Vec3::new(right, -1.0, 0.0),
-            Vec3::new(right, 0.0, 0.0),
-        ];
-        for k in (0..teeth).rev() {
-            let x = 2.0 * k as f32;
-            pts.push(Vec3::new(x + 1.5, 10.0, 0.0));
-            pts.push(Vec3::new(x + 0.5, 10.0, 0.0));
-            pts.push(Vec3::new(x, 0.0, 0.0));
-        }
-        let tris = triangulate(&pts);
-        assert_tiles(&pts, &tris);
-    }
-
-    #[test]
-    fn huge_star_is_ear_clipped_correctly() {
-        let spikes = 5000;
-        let pts: Vec<Vec3> = (0..2 * spikes)
-            .map(|i| {
-                let a = i as f64 / (2 * spikes) as f64 * std::f64::consts::TAU;
-                let r = if i % 2 == 0 { 2.0 } else { 1.0 };
-                Vec3::new((r * a.cos()) as f32, (r * a.sin()) as f32, 0.0)
-            })
-            .collect();
-        let tris = triangulate(&pts);
-        assert_tiles(&pts, &tris);
-    }
-
-    proptest::proptest! {
-        #[test]
-        fn star_shaped_polygons_of_any_size_are_tiled(
-            radii in proptest::collection::vec(0.2f64..2.0, 4..300),
-        ) {
-            // Corners at increasing angles around the origin: simple and star-shaped, concave
-            // wherever a radius dips; above 32 corners the indexed pass runs.
-            let n = radii.len();
-            let pts: Vec<Vec3> = radii
-                .iter()
-                .enumerate()
-                .map(|(i, r)| {
-                    let a = i as f64 / n as f64 * std::f64::consts::TAU;
-                    Vec3::new((r * a.cos()) as f32, (r * a.sin()) as f32, 0.0)
-                })
-                .collect();
-            let tris = triangulate(&pts);
-            assert_tiles(&pts, &tris);
-        }
-
-        #[test]
-        fn any_polygon_gives_n_minus_2_triangles_of_its_own_corners(
-            pts in proptest::collection::vec((-3i8..3, -3i8..3, -1i8..1), 3..120),
-        ) {
-            // Repeated, collinear and crossing corners: never a panic, always n - 2 triangles.
-            let pts: Vec<Vec3> = pts
-                .iter()
-                .map(|&(x, y, z)| Vec3::new(f32::from(x), f32::from(y), f32::from(z)))
-                .collect();
-            let tris = triangulate(&pts);
-            proptest::prop_assert_eq!(tris.len(), pts.len() - 2);
-            proptest::prop_assert!(tris.iter().flatten().all(|&i| i < pts.len()));
-        }
-    }
-
-    #[test]
-    fn huge_spiral_is_ear_clipped_correctly() {
-        // An arm of width 1 winding 10 times (3 units apart): ears only near its two ends.
-        let per_side = 3000;
-        let turns = 10.0 * std::f64::consts::TAU;
-        let point = |t: f64, r0: f64| {
-            let theta = t * turns;
-            let r = r0 + 3.0 * theta / std::f64::consts::TAU;
-            Vec3::new((r * theta.cos()) as f32, (r * theta.sin()) as f32, 0.0)
-        };
-        let mut pts: Vec<Vec3> = (0..per_side)
-            .map(|i| point(i as f64 / per_side as f64, 2.0))
-            .collect();
-        pts.extend(
-            (0..per_side)
-                .rev()
-                .map(|i| point(i as f64 / per_side as f64, 1.0)),
-        );
-        let tris = triangulate(&pts);
-        assert_tiles(&pts, &tris);
-    }
-
-    #[test]
-    fn clockwise_huge_polygon_keeps_its_winding() {
-        let n = 1000;
-        let pts: Vec<Vec3> = (0..n)
-            .map(|i| {
-                let a = -(i as f64) / n as f64 * std::f64::consts::TAU;
-                Vec3::new(a.cos() as f32, a.sin() as f32, 0.0)
-            })
-            .collect();
-        let tris = triangulate(&pts);
-        assert_eq!(tris.len(), n - 2);
-        assert!(area(&pts, &tris) < 0.0);
-    }
-}
+mod tests;

@@ -43,6 +43,7 @@ fn cube_gltf(buffer: GltfBuffer) -> (Vec<u8>, Vec<u8>) {
     let mesh = GltfMesh {
         shape: &cube,
         normals: None,
+        extras: &[],
         material: None,
     };
     writers::gltf(&[mesh], &[], &[], buffer)
@@ -114,7 +115,12 @@ fn truncated_binary_files_name_the_element_where_they_end() {
     headless[..5].copy_from_slice(b"SOLID");
     assert_error(&headless[..60], "t.stl", "t.stl: header: ", "truncated");
     let glb = cube_gltf(GltfBuffer::Glb).0;
-    assert_error(&glb[..glb.len() - 40], "t.glb", "t.glb: ", "glTF");
+    assert_error(
+        &glb[..glb.len() - 40],
+        "t.glb",
+        "t.glb: BIN chunk: ",
+        "truncated",
+    );
 }
 
 #[test]

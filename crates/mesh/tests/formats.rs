@@ -89,6 +89,7 @@ fn every_encoding(shape: &Shape) -> Vec<(String, Vec<u8>)> {
         let mesh = GltfMesh {
             shape,
             normals: None,
+            extras: &[],
             material: None,
         };
         out.push((name.to_owned(), writers::gltf(&[mesh], &[], &[], buffer).0));
@@ -188,6 +189,7 @@ fn cube_gltf(node: &str, colours: &[[f32; 4]], material: Option<usize>) -> Mesh 
     let mesh = GltfMesh {
         shape: &cube,
         normals: None,
+        extras: &[],
         material,
     };
     let (bytes, _) = writers::gltf(&[mesh], &[node], colours, GltfBuffer::DataUri);
@@ -205,6 +207,7 @@ fn gltf_node_transforms_place_the_mesh() {
     let mesh = GltfMesh {
         shape: &cube,
         normals: None,
+        extras: &[],
         material: None,
     };
     let (bytes, _) = writers::gltf(&[mesh], &["\"children\":[1]"], &[], GltfBuffer::DataUri);
@@ -246,11 +249,13 @@ fn gltf_base_colour_becomes_kd() {
         GltfMesh {
             shape: &cube,
             normals: None,
+            extras: &[],
             material: Some(0),
         },
         GltfMesh {
             shape: &cube,
             normals: None,
+            extras: &[],
             material: None,
         },
     ];
@@ -275,6 +280,7 @@ fn gltf_normals_are_used_as_authored_and_turned_with_the_node() {
     let mesh = GltfMesh {
         shape: &cube,
         normals: Some(&authored),
+        extras: &[],
         material: None,
     };
     // A quarter turn about X takes +Z to -Y.
@@ -300,6 +306,7 @@ fn gltf_buffers_load_from_a_data_uri_a_glb_chunk_and_a_relative_file() {
         let mesh = GltfMesh {
             shape: &cube,
             normals: None,
+            extras: &[],
             material: None,
         };
         writers::gltf(&[mesh], &[], &[], buffer)

@@ -3,7 +3,8 @@
 //! A file is encoded into a temporary file created exclusively (`O_EXCL`, so never through a
 //! planted symbolic link) in the target's own folder, flushed and synced with every result
 //! checked, and only then renamed over the target. A full disk, a quota, a file-size limit or a
-//! signal therefore leaves the old file as it was and no temporary file behind.
+//! signal therefore leaves the old file as it was and no temporary file behind; what a writer
+//! killed outright left is removed by the next write into the folder ([`crate::temp`]).
 //!
 //! What the output path names decides the rest, as `cp` decides it:
 //! - nothing: a new file;
@@ -19,7 +20,7 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use crate::cleanup;
+use crate::{cleanup, temp};
 
 /// Most symbolic links followed from the output path to its file (Linux's own limit).
 const MAX_LINKS: usize = 40;
@@ -77,15 +78,29 @@ enum Target {
     Stream(PathBuf),
 }
 
-/// Checks that `path` may be written (see the module documentation), without writing
-/// anything: applications call it before long work so that a refusal comes first.
+/// Checks that `path` may be written (see the module documentation), leaving nothing behind:
+/// applications call it before long work so that a refusal comes first. A temporary file is
+/// made in the target's folder and removed at once, so a folder that is missing, read-only
+/// or not a real one (`/proc`) is refused here.
 ///
 /// # Errors
 /// [`OutputError::Refused`] for a folder, a device, FIFO or socket, a read-only file or a
 /// dangling link (the last three only without `force`); [`OutputError::Write`] when the path
-/// cannot be examined (a missing folder, a loop of links).
+/// cannot be examined (a missing folder, a loop of links) or no file can be made beside it.
 pub fn check(path: &Path, force: bool) -> Result<(), OutputError> {
-    resolve(path, force).map(|_| ())
+    match resolve(path, force)? {
+        Target::Stream(_) => Ok(()),
+        Target::New(target) | Target::Replace(target, _) => {
+            // The folder must take the temporary file: a read-only folder, a full quota or
+            // `/proc` is refused now, not after the work.
+            let dir = parent_of(&target);
+            let name = target.file_name().unwrap_or(target.as_os_str());
+            temp::probe(&dir, name).map_err(|e| OutputError::Write {
+                path: path.to_path_buf(),
+                reason: format!("cannot create a temporary file in {}: {e}", dir.display()),
+            })
+        }
+    }
 }
 
 /// Writes a file at `path` from `encode`, which receives a buffered, seekable sink and returns
@@ -141,20 +156,10 @@ pub(crate) fn write_through<S: Storage>(
     let dir = parent_of(&target);
     let name = target
         .file_name()
-        .ok_or_else(|| fail("not a file name".to_owned()))?
-        .to_string_lossy()
-        .into_owned();
-    let prefix = format!(".{name}.");
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    #[cfg(unix)]
-    {
-        // New files get the usual 0666 less the umask, as any program's output does;
-        // tempfile's own default (0600) would hide the picture from other users.
-        use std::os::unix::fs::PermissionsExt as _;
-        builder.permissions(fs::Permissions::from_mode(0o666));
-    }
-    let temp = builder.tempfile_in(&dir).map_err(|e| {
+        .ok_or_else(|| fail("not a file name".to_owned()))?;
+    // What a writer killed by SIGKILL left here goes first (never a running writer's).
+    temp::remove_stale(&dir);
+    let temp = temp::create(&dir, name).map_err(|e| {
         fail(format!(
             "cannot create a temporary file in {}: {e}",
             dir.display()
@@ -219,6 +224,20 @@ fn resolve(path: &Path, force: bool) -> Result<Target, OutputError> {
         path: path.to_path_buf(),
         reason,
     };
+    // A stream reached through a link that names no path (`/dev/stdout` to a pipe reads
+    // `pipe:[1234]`) is known by what the kernel opens: written in place, as any stream.
+    if let Ok(meta) = fs::metadata(path)
+        && !meta.is_file()
+        && !meta.is_dir()
+    {
+        if force {
+            return Ok(Target::Stream(path.to_path_buf()));
+        }
+        return Err(refuse(
+            format!("is a {}, not a regular file", kind_name(&meta)),
+            true,
+        ));
+    }
     let (target, via_link) = follow_links(path).map_err(|e| fail(e.to_string()))?;
     let meta = match fs::metadata(&target) {
         Ok(meta) => meta,

@@ -8,6 +8,8 @@
 //!   linear OpenEXR, encoded row by row into such a file.
 //! - [`term`]: stdout and stderr lines whose failure ends the process with status 1, warnings
 //!   cut to one short line, clap usage errors as one line naming the flag.
+//! - [`temp`]: temporary names that fit wherever the target's name fits, and the removal of
+//!   those a killed writer left.
 //! - [`memory`]: how much memory is left, to refuse an image that would not fit before it is
 //!   allocated.
 //!
@@ -37,6 +39,7 @@ mod cleanup;
 pub mod file;
 pub mod image;
 pub mod memory;
+pub mod temp;
 pub mod term;
 
 pub use file::{OutputError, check, write_file};

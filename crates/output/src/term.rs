@@ -19,6 +19,7 @@ pub const WARNING_CHARS: usize = 200;
 /// Writes `line` and a newline to stdout, flushed. On failure: an `error: stdout: ...` line on
 /// stderr (if it can be written) and exit status 1.
 pub fn say(line: &str) {
+    let line = visible(line, &['\n', '\t']);
     let mut out = io::stdout().lock();
     let result = out
         .write_all(line.as_bytes())
@@ -77,17 +78,51 @@ pub fn warning_line(text: &str) -> String {
     cut(&line, WARNING_CHARS)
 }
 
-/// `text` on one line: line breaks and tabs become single spaces.
+/// `text` on one line: line breaks and tabs become single spaces, and every other control
+/// character (and the invisible characters that reorder text) an escape, so that a message
+/// quoting a file or a file name cannot clear or recolour the terminal (`ESC[2J` is shown as
+/// `\e[2J`).
 #[must_use]
 pub fn one_line(text: &str) -> String {
-    if !text.contains(['\n', '\r', '\t']) {
+    let text = if text.contains(['\n', '\r', '\t']) {
+        text.split(['\n', '\r', '\t'])
+            .map(str::trim)
+            .filter(|s| !s.is_empty())
+            .collect::<Vec<_>>()
+            .join(" ")
+    } else {
+        text.to_owned()
+    };
+    visible(&text, &[])
+}
+
+/// Whether `c` must not reach a terminal as it is: a control character, or a format
+/// character that changes the direction or visibility of the text around it.
+fn hidden(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}'
+        )
+}
+
+/// `text` with the characters [`hidden`] refuses, other than those in `keep`, escaped:
+/// `\e`, `\0`, `\r`, else `\u{XX}`.
+fn visible(text: &str, keep: &[char]) -> String {
+    if !text.chars().any(|c| hidden(c) && !keep.contains(&c)) {
         return text.to_owned();
     }
-    text.split(['\n', '\r', '\t'])
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .collect::<Vec<_>>()
-        .join(" ")
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        match c {
+            c if !hidden(c) || keep.contains(&c) => out.push(c),
+            '\u{1b}' => out.push_str("\\e"),
+            '\0' => out.push_str("\\0"),
+            '\r' => out.push_str("\\r"),
+            c => out.push_str(&format!("\\u{{{:x}}}", u32::from(c))),
+        }
+    }
+    out
 }
 
 /// `text` cut to at most `chars` characters, the last one `…` when anything was cut.
@@ -244,6 +279,16 @@ mod tests {
         assert!(line.ends_with('…') && !line.contains('\n'));
         assert_eq!(warning_line("warning: short"), "warning: short");
         assert_eq!(warning_line("short"), "warning: short");
+    }
+
+    #[test]
+    fn terminal_controls_in_lines_are_shown_not_obeyed() {
+        assert_eq!(
+            one_line("bad \u{1b}[2J\u{1b}[31mname\0\u{202e}"),
+            "bad \\e[2J\\e[31mname\\0\\u{202e}"
+        );
+        assert_eq!(warning_line("x\u{7}"), "warning: x\\u{7}");
+        assert_eq!(visible("a\nb\u{1b}", &['\n']), "a\nb\\e");
     }
 
     #[test]

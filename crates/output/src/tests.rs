@@ -384,6 +384,72 @@ mod unix {
     }
 
     #[test]
+    fn a_pipe_named_through_proc_is_written_in_place_when_forced() {
+        // `/dev/stdout` to a pipe is `/proc/self/fd/1`, a link to `pipe:[1234]`: no path.
+        use std::io::Read as _;
+        use std::os::fd::AsRawFd as _;
+        let (mut reader, writer) = std::io::pipe().unwrap();
+        let path = PathBuf::from(format!("/proc/self/fd/{}", writer.as_raw_fd()));
+        let err = write_text(&path, false, b"x").unwrap_err();
+        assert!(err.forceable() && err.to_string().contains("FIFO"), "{err}");
+        write_text(&path, true, b"through the pipe").unwrap();
+        drop(writer);
+        let mut got = String::new();
+        reader.read_to_string(&mut got).unwrap();
+        assert_eq!(got, "through the pipe");
+    }
+
+    #[test]
+    fn a_temporary_name_fits_wherever_the_target_name_fits() {
+        let dir = temp_dir();
+        // 250 bytes: within the 255 every common file system takes; `.NAME.XXXXXX.tmp`
+        // would not be.
+        let out = dir.path().join(format!("{}.png", "n".repeat(246)));
+        write_text(&out, false, b"long").unwrap();
+        assert_eq!(fs::read(&out).unwrap(), b"long");
+        assert_eq!(names_in(dir.path()).len(), 1);
+    }
+
+    #[test]
+    fn checking_refuses_a_folder_that_cannot_take_a_file() {
+        let err = crate::check(Path::new("/proc/out.png"), true).unwrap_err();
+        assert!(
+            err.to_string().starts_with(
+                "/proc/out.png: cannot write: cannot create a temporary file in /proc"
+            ),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_dead_writers_temporary_file_is_removed_by_the_next_write() {
+        let dir = temp_dir();
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        child.wait().unwrap();
+        let dead = child.id();
+        let me = std::process::id();
+        let old = std::time::SystemTime::now() - std::time::Duration::from_secs(600);
+        let make = |name: String, modified: Option<std::time::SystemTime>| {
+            let f = File::create(dir.path().join(&name)).unwrap();
+            if let Some(t) = modified {
+                f.set_modified(t).unwrap();
+            }
+            name
+        };
+        let stale = make(format!(".big.exr.{dead}.aB3xYz.tmp"), Some(old));
+        let running = make(format!(".big.exr.{me}.aB3xYz.tmp"), Some(old));
+        let init = make(".big.exr.1.aB3xYz.tmp".to_owned(), Some(old));
+        let fresh = make(format!(".big.exr.{dead}.Qq0000.tmp"), None);
+        let other = make(format!(".notes.{dead}.tmp"), Some(old));
+        write_text(&dir.path().join("out.png"), false, b"new").unwrap();
+        let names = names_in(dir.path());
+        assert!(!names.contains(&stale), "{names:?}");
+        for kept in [running, init, fresh, other, "out.png".to_owned()] {
+            assert!(names.contains(&kept), "{kept} in {names:?}");
+        }
+    }
+
+    #[test]
     fn a_planted_link_at_a_temporary_name_is_never_followed() {
         // Temporary names are random and created exclusively; a link planted at any name
         // the writer could pick is left alone, and so is its target.

@@ -48,16 +48,33 @@ impl BumpMap {
     /// Loads a height field from an image file (luminance, any format the `image` crate
     /// reads with the enabled features). Errors name the file.
     pub fn from_image(path: &Path, scale: f32) -> Result<BumpMap, RasterError> {
+        let bytes = std::fs::read(path).map_err(|e| RasterError::Io {
+            path: path.to_path_buf(),
+            what: e.to_string(),
+        })?;
+        BumpMap::from_image_bytes(&bytes, path, scale)
+    }
+
+    /// [`BumpMap::from_image`] from the file's bytes, read by the caller (a scene reads every
+    /// file it names as a regular file, without blocking: `phosphor_mesh::open`); `path`
+    /// names it in errors and tells the format where the bytes do not.
+    pub fn from_image_bytes(bytes: &[u8], path: &Path, scale: f32) -> Result<BumpMap, RasterError> {
         if !scale.is_finite() {
             return Err(RasterError::BadBump(format!(
                 "{}: scale {scale} is not finite",
                 path.display()
             )));
         }
-        let img = image::open(path).map_err(|e| RasterError::Io {
+        let io = |e: image::ImageError| RasterError::Io {
             path: path.to_path_buf(),
             what: e.to_string(),
-        })?;
+        };
+        let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes));
+        match image::ImageFormat::from_path(path) {
+            Ok(format) => reader.set_format(format),
+            Err(_) => reader = reader.with_guessed_format().map_err(|e| io(e.into()))?,
+        }
+        let img = reader.decode().map_err(io)?;
         let luma = img.to_luma32f();
         let (width, height) = luma.dimensions();
         let heights: Vec<f32> = luma

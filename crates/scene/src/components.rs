@@ -104,8 +104,10 @@ pub enum Primitive {
 /// Memory all the primitive meshes of one scene may take while built, in bytes (each
 /// distinct primitive counted once, by [`Primitive::footprint`]): room for one primitive at
 /// the largest counts a scene file allows (4096 x 4096, about 2.7 GB), with the renderer's
-/// own per-frame buffers still to fit beside it.
-pub const PRIMITIVE_BUDGET_BYTES: u64 = 4_000_000_000;
+/// own per-frame buffers still to fit beside it. The budget every mesh a file sizes is
+/// checked against ([`phosphor_mesh::primitives::MEMORY_BUDGET_BYTES`]; a glTF file's placed
+/// copies of its meshes share it too).
+pub const PRIMITIVE_BUDGET_BYTES: u64 = phosphor_mesh::primitives::MEMORY_BUDGET_BYTES;
 
 impl Primitive {
     /// The size of the mesh [`Primitive::build`] makes, known before building it.

@@ -68,7 +68,7 @@ pub use components::{
     SceneMesh, Shading, ShadingChoice, Transform,
 };
 pub use error::SceneError;
-pub use file::load::{Disk, Files, load_scene, parse_scene};
+pub use file::load::{Disk, Files, MAX_SCENE_BYTES, load_scene, parse_scene};
 pub use file::save::{save_scene, scene_to_toml};
 pub use plan::{
     AUTO_TOLERANCE, AutoInput, FAST_PHONG_MIN_PIXELS, FrameOptions, FramePlan, PlannedObject,

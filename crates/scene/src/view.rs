@@ -275,9 +275,20 @@ pub struct CameraOverride {
     pub distance: Option<f32>,
 }
 
-/// `x,y,z` as a message shows it.
+/// A number as a message shows it: its shortest form (`1e20`, not `100000000000000000000`).
+fn short(x: f32) -> String {
+    let (plain, exponent) = (format!("{x}"), format!("{x:e}"));
+    if exponent.len() < plain.len() {
+        exponent
+    } else {
+        plain
+    }
+}
+
+/// `x,y,z` as a message shows it, each number in its shortest form.
 fn show(v: Vec3) -> String {
-    format!("{},{},{}", v.x, v.y, v.z)
+    let [x, y, z] = v.to_array().map(short);
+    format!("{x},{y},{z}")
 }
 
 impl CameraOverride {
@@ -416,6 +427,28 @@ impl CameraOverride {
             cam.target = self.target.unwrap_or(cam.target);
         }
         let dir = cam.target - cam.eye;
+        if !dir.length_squared().is_finite() {
+            // Past 1.8e19 the squared distance overflows single precision: the view direction
+            // would come out as (0,0,0), which no later message could explain.
+            let option = if self.eye.is_some() {
+                CameraOption::Eye
+            } else if self.target.is_some() {
+                CameraOption::Target
+            } else {
+                CameraOption::Distance
+            };
+            let apart = (cam.target.as_dvec3() - cam.eye.as_dvec3()).length() as f32;
+            return Err(fault(
+                option,
+                format!(
+                    "puts the eye at {}, {} from the target ({}): too far for single precision \
+                     (at most 1.8e19)",
+                    show(cam.eye),
+                    short(apart),
+                    show(cam.target)
+                ),
+            ));
+        }
         if dir.length_squared() < 1e-12 {
             return Err(if self.target.is_some() {
                 fault(
@@ -647,6 +680,26 @@ mod tests {
             )
         );
         assert_eq!((got.near, got.far), (0.1, 10.0));
+    }
+
+    #[test]
+    fn an_eye_too_far_for_single_precision_is_named_as_given() {
+        let o = CameraOverride {
+            eye: Some(Vec3::new(1e20, 0.0, 0.0)),
+            ..CameraOverride::default()
+        };
+        let e = o.apply(Camera::s1(), None).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--eye: puts the eye at 1e20,0,0, 1e20 from the target (0,0,0): too far for single \
+             precision (at most 1.8e19)"
+        );
+        let o = CameraOverride {
+            distance: Some(3e19),
+            ..CameraOverride::default()
+        };
+        let e = o.apply(Camera::s1(), None).unwrap_err();
+        assert_eq!(e.option, CameraOption::Distance, "{e}");
     }
 
     #[test]

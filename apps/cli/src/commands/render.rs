@@ -12,7 +12,7 @@ use crate::CliError;
 use crate::args::{EncodingArg, RenderArgs};
 use crate::frames::{Output, frames_to_render, output_for};
 use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_pixel, threads};
-use crate::output::{check_output, format_of, write_image, write_png_to_stdout};
+use crate::output::{check_output, format_of, is_stdout, write_image, write_png_to_stdout};
 use crate::progress::{Progress, time_left};
 use crate::view::prepare;
 
@@ -31,8 +31,15 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if let Output::Files(pattern) = &output {
         if pattern.is_numbered() {
             format_of(pattern.given())?;
-        } else {
-            check_output(pattern.given(), args.force)?;
+        }
+        // The first file stands for the folder: missing, unwritable or not a real one is
+        // refused now, not after the first frame is drawn.
+        check_output(&pattern.path(frames.start), args.force)?;
+        if args.plan && is_stdout(&pattern.path(frames.start)) {
+            return Err(CliError::Usage(format!(
+                "-o {}: is standard output, which cannot also take --plan",
+                pattern.given().display()
+            )));
         }
     }
     let progress = Progress::start("loading (stage 1 of 3)");
@@ -64,7 +71,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let alloc_time = alloc_start.elapsed();
     let home = scene.camera();
     let count = frames.len() as f64;
-    for (index, &frame) in frames.iter().enumerate() {
+    for (index, frame) in frames.enumerate() {
         let frame_start = Instant::now();
         // Each frame is one third of its share: rendering, then saving.
         let base = index as f64 / count;
@@ -136,7 +143,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             } else {
                 Duration::ZERO
             };
-            say!(
+            let line = format!(
                 "rendered {} in {} (load {}, render {} = {:.0}%, save {}): {width}x{height}, {} of {} triangles drawn, {} {} shaded{}",
                 out.display(),
                 ms(total),
@@ -162,6 +169,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                     String::new()
                 }
             );
+            // An image written to standard output (`-o /dev/stdout`) is all that goes there.
+            if is_stdout(&out) {
+                phosphor_output::term::tell(&line);
+            } else {
+                say!("{line}");
+            }
         }
         if s.bump_ignored > 0 && index == 0 {
             phosphor_output::term::warn(&format!(

@@ -19,11 +19,13 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use crate::assets::read_asset;
 use crate::build::{TriangleSoup, weld_key};
 use crate::error::MeshError;
 use crate::loader::{load_obj_with_warnings, parse_obj_with_warnings};
 use crate::mesh::Mesh;
 use crate::normals::{NormalOptions, NormalSource};
+use crate::open::{MAX_MESH_FILE_BYTES, read_file};
 
 /// A mesh file format, chosen by the file's extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,8 +80,9 @@ pub fn load_mesh(path: &Path, opts: &NormalOptions) -> Result<Mesh, MeshError> {
 
 /// Like [`load_mesh`], also returning warnings (one line each, `FILE[:LINE]: what`).
 ///
-/// Files a mesh refers to (an OBJ's MTL, a glTF's `.bin` buffers) are read relative to the
-/// mesh's directory.
+/// Every file is opened as a regular file only, without blocking, and read up to a cap
+/// ([`crate::open`]). Files a mesh refers to (an OBJ's MTL, a glTF's `.bin` buffers) are read
+/// relative to the mesh's directory, a glTF's confined to it ([`crate::assets`]).
 ///
 /// # Errors
 /// As [`load_mesh`].
@@ -92,12 +95,11 @@ pub fn load_mesh_with_warnings(
         return load_obj_with_warnings(path, opts);
     }
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+    let bytes = read_file(path, MAX_MESH_FILE_BYTES).map_err(|source| MeshError::Io {
         file: file.clone(),
         source,
     })?;
-    let dir = path.parent().unwrap_or(Path::new(""));
-    let read_relative = |rel: &str| std::fs::read(dir.join(rel));
+    let read_relative = |rel: &str| read_asset(path, rel);
     parse_mesh_bytes(&bytes, &file, format, &read_relative, opts)
 }
 

@@ -1,15 +1,21 @@
-//! STL, ASCII or binary, through `stl_io`.
+//! STL, ASCII or binary: binary through `stl_io`, ASCII by [`ascii`].
 //!
 //! STL stores every triangle with its own three corners; the corners are welded by exact
 //! equality so faces that share a position can be smoothed (the 60-degree crease of the
-//! defaults keeps a part's edges sharp). The facet normals are not used: they are per face,
-//! which is what the crease test recomputes anyway, and many writers leave them zero.
+//! defaults keeps a part's edges sharp). The facet normals are not used, in either encoding:
+//! they are per face, which is what the crease test recomputes anyway, and many writers leave
+//! them zero (or NaN).
 //!
-//! Binary or ASCII is decided before `stl_io` sees the file: a file exactly `84 + 50 * count`
-//! bytes long is binary, and so is one that does not start with `solid` or holds control
-//! characters (a truncated binary file). Deciding by the `solid` keyword alone (as `stl_io`
-//! does) misreads the binary files whose free-text header begins with `solid`, which several
-//! CAD exporters write.
+//! Binary or ASCII is decided before anything is parsed, by the size rule first: a file
+//! exactly `84 + 50 * count` bytes long (`count` the little-endian `u32` at byte 80) is binary.
+//! Otherwise a file shaped as ASCII STL is ASCII: its first word `solid` in any case (after a
+//! byte-order mark and blank lines), the next line's first word `facet` or `endsolid`. Anything
+//! else is binary (a truncated one, reported as such). Deciding by the `solid` keyword alone
+//! (as `stl_io` does) misreads the binary files whose free-text header begins with `solid`,
+//! which several CAD exporters write; deciding by control characters misreads an ASCII file
+//! with one stray NUL byte as a binary one announcing billions of triangles.
+
+mod ascii;
 
 use std::borrow::Cow;
 use std::io::Cursor;
@@ -33,23 +39,6 @@ fn binary_size(bytes: &[u8]) -> Option<u64> {
     Some(BINARY_HEADER as u64 + BINARY_FACET as u64 * u64::from(u32::from_le_bytes(count)))
 }
 
-/// True when the file reads as ASCII STL: its first word is `solid` (after a byte-order mark
-/// or blanks) and its first kilobyte holds no control character. A binary file's triangle
-/// count alone has a zero byte for fewer than 16 million triangles, so a binary file whose
-/// header says `solid` (complete or truncated) is not taken for text.
-fn looks_ascii(bytes: &[u8]) -> bool {
-    let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    let start = text
-        .iter()
-        .position(|b| !b.is_ascii_whitespace())
-        .unwrap_or(text.len());
-    text[start..].starts_with(b"solid")
-        && text
-            .iter()
-            .take(1024)
-            .all(|&b| b >= 0x20 || b"\t\n\r\x0c".contains(&b))
-}
-
 /// Parses an STL file's bytes; `file` names it in messages.
 pub(super) fn parse(
     bytes: &[u8],
@@ -64,10 +53,12 @@ pub(super) fn parse(
     let len = bytes.len() as u64;
     let exact_binary = binary_size(bytes) == Some(len);
     let mut warnings = Vec::new();
-    let corners = if exact_binary || !looks_ascii(bytes) {
+    let corners = if exact_binary || !ascii::looks_ascii(bytes) {
         binary(bytes, file, &mut warnings)?
     } else {
-        ascii(bytes, file)?
+        let (corners, ascii_warnings) = ascii::parse(bytes, file)?;
+        warnings.extend(ascii_warnings);
+        corners
     };
     let mut soup = TriangleSoup::default();
     let mut welder = Welder::default();
@@ -145,92 +136,6 @@ fn binary(bytes: &[u8], file: &str, warnings: &mut Vec<String>) -> Result<Vec<Ve
         }
     }
     Ok(corners)
-}
-
-/// The corners of every facet of an ASCII STL, three per triangle.
-fn ascii(bytes: &[u8], file: &str) -> Result<Vec<Vec3>, MeshError> {
-    // `stl_io` wants the first line to start with `solid ` exactly; a file whose first line is
-    // a bare `solid`, or has a byte-order mark or leading blanks, gets that line replaced
-    // (the solid's name is not used, and line numbers stay the same).
-    let data: Cow<'_, [u8]> = if bytes.starts_with(b"solid ") {
-        Cow::Borrowed(bytes)
-    } else {
-        let first_end = bytes
-            .iter()
-            .position(|&b| b == b'\n')
-            .unwrap_or(bytes.len());
-        let mut owned = b"solid \n".to_vec();
-        owned.extend_from_slice(bytes.get(first_end + 1..).unwrap_or(&[]));
-        Cow::Owned(owned)
-    };
-    let mut cursor = Cursor::new(data.as_ref());
-    let reader = stl_io::create_stl_reader(&mut cursor)
-        .map_err(|e| line_error(file, 1, one_line(&e.to_string())))?;
-    let mut corners = Vec::new();
-    for (i, facet) in reader.enumerate() {
-        let facet = facet.map_err(|e| {
-            line_error(
-                file,
-                bad_line(&data, i),
-                format!("facet {}: {}", i + 1, one_line(&e.to_string())),
-            )
-        })?;
-        corners.extend(facet.vertices.iter().map(|v| Vec3::from_array(v.0)));
-    }
-    if corners.is_empty() {
-        return Err(MeshError::NoFaces {
-            file: file.to_owned(),
-        });
-    }
-    Ok(corners)
-}
-
-fn line_error(file: &str, line: usize, what: String) -> MeshError {
-    MeshError::Parse {
-        file: file.to_owned(),
-        line,
-        what,
-    }
-}
-
-/// The 1-based line of the first malformed line of facet `index` (0-based), or the last line
-/// when the file ends inside it. `stl_io` reports no position; like it, this reads seven
-/// non-blank lines per facet after the `solid` line, and runs only after an error.
-fn bad_line(text: &[u8], index: usize) -> usize {
-    let number = |w: &[u8]| {
-        std::str::from_utf8(w)
-            .ok()
-            .and_then(|w| w.parse::<f32>().ok())
-            .is_some_and(f32::is_finite)
-    };
-    let well_formed = |k: usize, words: &[&[u8]]| match (k, words) {
-        (0, [b"endsolid", ..]) => true,
-        (0, [b"facet", b"normal", x, y, z]) | (2..=4, [b"vertex", x, y, z]) => {
-            number(x) && number(y) && number(z)
-        }
-        (1, [b"outer", b"loop"]) | (5, [b"endloop"]) | (6, [b"endfacet"]) => true,
-        _ => false,
-    };
-    let first = 1 + 7 * index;
-    let mut last = 1;
-    let non_blank = text
-        .split(|&b| b == b'\n')
-        .enumerate()
-        .map(|(n, line)| {
-            let words: Vec<&[u8]> = line
-                .split(|b| b.is_ascii_whitespace())
-                .filter(|w| !w.is_empty())
-                .collect();
-            (n + 1, words)
-        })
-        .filter(|(_, words)| !words.is_empty());
-    for (k, (line, words)) in non_blank.enumerate().take(first + 7) {
-        if k >= first && !well_formed(k - first, &words) {
-            return line;
-        }
-        last = line;
-    }
-    last
 }
 
 #[cfg(test)]

@@ -4,6 +4,10 @@
 
 use glam::Vec3;
 
+mod gltf_writer;
+
+pub use gltf_writer::*;
+
 /// Positions and polygons (any number of corners), counter-clockwise seen from outside.
 pub struct Shape {
     pub positions: Vec<Vec3>,
@@ -73,9 +77,28 @@ pub enum Ply {
     Big,
 }
 
+/// How a PLY file stores vertex colours.
+#[derive(Clone, Copy, Debug)]
+pub enum PlyColor {
+    /// `uchar red green blue alpha`, 0 to 255 (alpha 255).
+    UChar,
+    /// `float red green blue`, 0 to 1.
+    Float,
+}
+
 /// A PLY file of `shape`, with `normals` per vertex when given. The vertex element carries an
 /// extra `confidence` float and the file an `edge` element, both to be read past.
 pub fn ply(shape: &Shape, normals: Option<&[Vec3]>, encoding: Ply) -> Vec<u8> {
+    ply_with(shape, normals, None, encoding)
+}
+
+/// [`ply`] with vertex colours when given.
+pub fn ply_with(
+    shape: &Shape,
+    normals: Option<&[Vec3]>,
+    colors: Option<(&[Vec3], PlyColor)>,
+    encoding: Ply,
+) -> Vec<u8> {
     let format = match encoding {
         Ply::Ascii => "ascii",
         Ply::Little => "binary_little_endian",
@@ -88,6 +111,16 @@ pub fn ply(shape: &Shape, normals: Option<&[Vec3]>, encoding: Ply) -> Vec<u8> {
     );
     if normals.is_some() {
         header += "property float nx\nproperty float ny\nproperty float nz\n";
+    }
+    match colors {
+        Some((_, PlyColor::UChar)) => {
+            header += "property uchar red\nproperty uchar green\nproperty uchar blue\n\
+                       property uchar alpha\n";
+        }
+        Some((_, PlyColor::Float)) => {
+            header += "property float red\nproperty float green\nproperty float blue\n";
+        }
+        None => {}
     }
     header += &format!(
         "property float confidence\nelement face {}\nproperty list uchar int vertex_indices\n\
@@ -122,6 +155,19 @@ pub fn ply(shape: &Shape, normals: Option<&[Vec3]>, encoding: Ply) -> Vec<u8> {
         f32s(&mut out, &p.to_array());
         if let Some(n) = normals {
             f32s(&mut out, &n[i].to_array());
+        }
+        match colors {
+            Some((c, PlyColor::UChar)) => {
+                let bytes = (c[i] * 255.0).round().to_array().map(|x| x as u8);
+                for b in bytes.into_iter().chain([255]) {
+                    match encoding {
+                        Ply::Ascii => out.extend_from_slice(format!("{b} ").as_bytes()),
+                        _ => out.push(b),
+                    }
+                }
+            }
+            Some((c, PlyColor::Float)) => f32s(&mut out, &c[i].to_array()),
+            None => {}
         }
         f32s(&mut out, &[0.5]);
         end_line(&mut out);
@@ -173,194 +219,6 @@ pub fn stl_binary(shape: &Shape) -> Vec<u8> {
         }
         out.extend_from_slice(&[0, 0]);
     }
-    out
-}
-
-/// Standard base64 with padding.
-pub fn base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            chunk.get(1).copied().unwrap_or(0),
-            chunk.get(2).copied().unwrap_or(0),
-        ];
-        let n = u32::from_be_bytes([0, b[0], b[1], b[2]]);
-        for k in 0..4 {
-            if k <= chunk.len() {
-                s.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                s.push('=');
-            }
-        }
-    }
-    s
-}
-
-/// One glTF mesh: a shape's triangles, optional per-vertex normals, and a material index.
-pub struct GltfMesh<'a> {
-    pub shape: &'a Shape,
-    pub normals: Option<&'a [Vec3]>,
-    pub material: Option<usize>,
-}
-
-/// Where a glTF's buffer lives.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum GltfBuffer {
-    DataUri,
-    External,
-    Glb,
-}
-
-/// A glTF document: one node per mesh with the given node JSON (`"translation": ...` etc.,
-/// without `mesh`), materials with the given base colours. Returns the file's bytes and, for
-/// `External`, the buffer's bytes (to write next to it as `mesh.bin`).
-pub fn gltf(
-    meshes: &[GltfMesh<'_>],
-    node_extras: &[&str],
-    base_colours: &[[f32; 4]],
-    buffer: GltfBuffer,
-) -> (Vec<u8>, Vec<u8>) {
-    let mut bin = Vec::new();
-    let mut views = Vec::new();
-    let mut accessors = Vec::new();
-    let mut json_meshes = Vec::new();
-    let add_view = |bin: &mut Vec<u8>, data: &[u8], views: &mut Vec<String>| {
-        while !bin.len().is_multiple_of(4) {
-            bin.push(0);
-        }
-        views.push(format!(
-            "{{\"buffer\":0,\"byteOffset\":{},\"byteLength\":{}}}",
-            bin.len(),
-            data.len()
-        ));
-        bin.extend_from_slice(data);
-        views.len() - 1
-    };
-    for m in meshes {
-        let (lo, hi) = m.shape.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let floats = |v: &[Vec3]| -> Vec<u8> {
-            v.iter()
-                .flat_map(|p| p.to_array())
-                .flat_map(f32::to_le_bytes)
-                .collect()
-        };
-        let view = add_view(&mut bin, &floats(&m.shape.positions), &mut views);
-        accessors.push(format!(
-            "{{\"bufferView\":{view},\"componentType\":5126,\"count\":{},\"type\":\"VEC3\",\
-             \"min\":[{},{},{}],\"max\":[{},{},{}]}}",
-            m.shape.positions.len(),
-            lo.x,
-            lo.y,
-            lo.z,
-            hi.x,
-            hi.y,
-            hi.z
-        ));
-        let mut attributes = format!("\"POSITION\":{}", accessors.len() - 1);
-        if let Some(n) = m.normals {
-            let view = add_view(&mut bin, &floats(n), &mut views);
-            accessors.push(format!(
-                "{{\"bufferView\":{view},\"componentType\":5126,\"count\":{},\"type\":\"VEC3\"}}",
-                n.len()
-            ));
-            attributes += &format!(",\"NORMAL\":{}", accessors.len() - 1);
-        }
-        let indices: Vec<u8> = m
-            .shape
-            .triangles()
-            .iter()
-            .flatten()
-            .flat_map(|&i| (i as u16).to_le_bytes())
-            .collect();
-        let view = add_view(&mut bin, &indices, &mut views);
-        accessors.push(format!(
-            "{{\"bufferView\":{view},\"componentType\":5123,\"count\":{},\"type\":\"SCALAR\"}}",
-            indices.len() / 2
-        ));
-        let material = m
-            .material
-            .map_or(String::new(), |i| format!(",\"material\":{i}"));
-        json_meshes.push(format!(
-            "{{\"name\":\"mesh{}\",\"primitives\":[{{\"attributes\":{{{attributes}}},\
-             \"indices\":{}{material}}}]}}",
-            json_meshes.len(),
-            accessors.len() - 1
-        ));
-    }
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
-    let nodes: Vec<String> = (0..meshes.len())
-        .map(|i| {
-            let extra = node_extras.get(i).copied().unwrap_or("");
-            let sep = if extra.is_empty() { "" } else { "," };
-            format!("{{\"mesh\":{i}{sep}{extra}}}")
-        })
-        .collect();
-    let materials: Vec<String> = base_colours
-        .iter()
-        .enumerate()
-        .map(|(i, c)| {
-            format!(
-                "{{\"name\":\"paint{i}\",\"pbrMetallicRoughness\":{{\"baseColorFactor\":[{},{},{},{}]}}}}",
-                c[0], c[1], c[2], c[3]
-            )
-        })
-        .collect();
-    let uri = match buffer {
-        GltfBuffer::DataUri => format!(
-            ",\"uri\":\"data:application/octet-stream;base64,{}\"",
-            base64(&bin)
-        ),
-        GltfBuffer::External => ",\"uri\":\"mesh.bin\"".to_owned(),
-        GltfBuffer::Glb => String::new(),
-    };
-    let scene_nodes: Vec<String> = (0..meshes.len()).map(|i| i.to_string()).collect();
-    let json = format!(
-        "{{\"asset\":{{\"version\":\"2.0\"}},\"scene\":0,\"scenes\":[{{\"nodes\":[{}]}}],\
-         \"nodes\":[{}],\"meshes\":[{}],\"materials\":[{}],\"accessors\":[{}],\
-         \"bufferViews\":[{}],\"buffers\":[{{\"byteLength\":{}{uri}}}]}}",
-        scene_nodes.join(","),
-        nodes.join(","),
-        json_meshes.join(","),
-        materials.join(","),
-        accessors.join(","),
-        views.join(","),
-        bin.len()
-    )
-    .replace(",\"materials\":[]", "");
-    match buffer {
-        GltfBuffer::Glb => (glb(&json, &bin), Vec::new()),
-        GltfBuffer::External => (json.into_bytes(), bin),
-        GltfBuffer::DataUri => (json.into_bytes(), Vec::new()),
-    }
-}
-
-/// A GLB container: header, JSON chunk (space padded), BIN chunk (zero padded).
-pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
-    let mut json = json.as_bytes().to_vec();
-    while !json.len().is_multiple_of(4) {
-        json.push(b' ');
-    }
-    let mut bin = bin.to_vec();
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
-    let total = 12 + 8 + json.len() + 8 + bin.len();
-    let mut out = b"glTF".to_vec();
-    out.extend_from_slice(&2u32.to_le_bytes());
-    out.extend_from_slice(&(total as u32).to_le_bytes());
-    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"JSON");
-    out.extend_from_slice(&json);
-    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-    out.extend_from_slice(b"BIN\0");
-    out.extend_from_slice(&bin);
     out
 }
 

@@ -9,7 +9,7 @@ use phosphor_lighting::{
     Attenuation, Fresnel, FresnelMode, Light, LightKind, Material, SpecularModel,
 };
 use phosphor_mesh::primitives::{PrimitiveError, gigabytes};
-use phosphor_mesh::{MeshFormat, NormalOptions, NormalSource, Weighting};
+use phosphor_mesh::{MAX_MESH_FILE_BYTES, MeshFormat, NormalOptions, NormalSource, Weighting};
 use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump};
 
 use super::read::{Fields, choose};
@@ -25,28 +25,42 @@ use crate::{CullChoice, RenderSettings, Scene};
 pub trait Files {
     /// The text of `path`, or the I/O error.
     fn read_text(&self, path: &Path) -> std::io::Result<String>;
-    /// The bytes of `path` (binary mesh files), or the I/O error.
+    /// The bytes of `path` (binary mesh files, bump images), or the I/O error.
     fn read_bytes(&self, path: &Path) -> std::io::Result<Vec<u8>> {
         self.read_text(path).map(String::into_bytes)
     }
-    /// Whether `path` exists (used for bump images, which the image crate reads itself).
+    /// The bytes of the file `rel` that the mesh file `mesh` names (a glTF buffer), relative
+    /// to the mesh's folder.
+    fn read_asset(&self, mesh: &Path, rel: &str) -> std::io::Result<Vec<u8>> {
+        self.read_bytes(&mesh.parent().unwrap_or(Path::new("")).join(rel))
+    }
+    /// Whether `path` exists (a bump image is checked when the scene is read, loaded later).
     fn exists(&self, path: &Path) -> bool;
 }
 
-/// The file system.
+/// The file system. Every file is read as a regular file, opened without blocking, of at
+/// most [`MAX_MESH_FILE_BYTES`] (`phosphor_mesh::open`: a FIFO or device named by a scene is
+/// refused, never waited on); the files a glTF names stay in its folder
+/// ([`phosphor_mesh::read_asset`]).
 pub struct Disk;
 
 impl Files for Disk {
     fn read_text(&self, path: &Path) -> std::io::Result<String> {
-        std::fs::read_to_string(path)
+        phosphor_mesh::read_text(path, MAX_MESH_FILE_BYTES)
     }
     fn read_bytes(&self, path: &Path) -> std::io::Result<Vec<u8>> {
-        std::fs::read(path)
+        phosphor_mesh::read_file(path, MAX_MESH_FILE_BYTES)
+    }
+    fn read_asset(&self, mesh: &Path, rel: &str) -> std::io::Result<Vec<u8>> {
+        phosphor_mesh::read_asset(mesh, rel)
     }
     fn exists(&self, path: &Path) -> bool {
         path.exists()
     }
 }
+
+/// Largest scene file read: scene files are a few kilobytes of TOML.
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 
 const TOP: &[&str] = &[
     "render",
@@ -129,13 +143,15 @@ pub fn parse_scene(
     Ok(scene)
 }
 
-/// Loads a scene file from disk.
+/// Loads a scene file from disk: a regular file of at most [`MAX_SCENE_BYTES`], opened
+/// without blocking, as are the files it names ([`Disk`]).
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-        file: file.clone(),
-        source,
-    })?;
+    let text =
+        phosphor_mesh::read_text(path, MAX_SCENE_BYTES).map_err(|source| SceneError::Io {
+            file: file.clone(),
+            source,
+        })?;
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let mut scene = parse_scene(&text, &file, &dir, &Disk)?;
     scene.source = Some(path.to_path_buf());
@@ -788,14 +804,18 @@ fn object(
                         kind: *kind,
                         scale: *scale,
                     },
-                    BumpSource::Map { resolved, .. } => BumpMap::from_image(resolved, *scale)
-                        .map_err(|e| {
+                    BumpSource::Map { resolved, .. } => {
+                        let field = || format!("materials.{material_name}.bump.map");
+                        let bytes = files.read_bytes(resolved).map_err(|e| {
                             SceneError::field(
                                 o.file(),
-                                format!("materials.{material_name}.bump.map"),
-                                e.to_string(),
+                                field(),
+                                format!("{}: cannot read: {e}", resolved.display()),
                             )
-                        })?,
+                        })?;
+                        BumpMap::from_image_bytes(&bytes, resolved, *scale)
+                            .map_err(|e| SceneError::field(o.file(), field(), e.to_string()))?
+                    }
                 });
                 bumps.insert(key, map.clone());
                 map
@@ -878,8 +898,7 @@ fn build_mesh(
             let bytes = files
                 .read_bytes(resolved)
                 .map_err(|e| o.error("mesh", format!("{shown}: cannot read: {e}")))?;
-            let dir = resolved.parent().unwrap_or(Path::new(""));
-            let read_relative = |rel: &str| files.read_bytes(&dir.join(rel));
+            let read_relative = |rel: &str| files.read_asset(resolved, rel);
             let format = MeshFormat::from_path(resolved);
             let (mesh, warnings) =
                 phosphor_mesh::parse_mesh_bytes(&bytes, &shown, format, &read_relative, &normals)

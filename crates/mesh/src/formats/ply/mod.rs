@@ -2,33 +2,51 @@
 //!
 //! The crate parses the header and each element; this module drives it one element at a time,
 //! so an error names the line (ASCII) or the element and its number (binary). Read: the
-//! `vertex` element's `x y z` (any numeric type) and, when all three are present, `nx ny nz`;
-//! the `face` element's `vertex_indices` (or `vertex_index`) list of any integer type. Other
-//! properties and elements (colours, confidence, edges) are read past. Faces with more than
-//! three corners are triangulated by ear clipping as OBJ polygons are.
+//! `vertex` element's `x y z` (any numeric type), when all three are present `nx ny nz`, and
+//! when all three are present the colour `red green blue` (else `r g b`, else `diffuse_red
+//! diffuse_green diffuse_blue`): `uchar` divided by 255, `ushort` by 65535, `uint` by
+//! 2^32 - 1, `float` and `double` as they are, clamped to `[0, 1]` and taken as linear RGB (a
+//! signed integer type is a warning, and no colours); the `face` element's `vertex_indices` (or
+//! `vertex_index`) list of any integer type. Other properties (`alpha`, confidence) and
+//! elements (edges) are read past. Faces with more than three corners are triangulated by ear
+//! clipping as OBJ polygons are.
 
 use glam::Vec3;
-use ply_rs_bw::parser::{ParseError, Parser, Reader};
+use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
-    BeginList, ElementDef, Encoding, Header, Property, PropertyAccess, PropertyAccessResult,
-    PropertyType, ScalarType,
+    BeginList, Header, Property, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
 };
 
-use super::{Welder, element_error, finish, one_line};
-use crate::build::TriangleSoup;
+use super::{Welder, element_error, finish};
+use crate::build::{TriangleSoup, unit_color};
 use crate::error::MeshError;
 use crate::mesh::Mesh;
 use crate::normals::NormalOptions;
 use crate::triangulate::triangulate;
 
+mod payload;
+mod words;
+
+use payload::{Payload, clip, message};
+
 /// Names the face list may have (both are in use: Stanford's scans use `vertex_indices`).
 const FACE_LISTS: [&str; 2] = ["vertex_indices", "vertex_index"];
 
-/// One `vertex` element: position and normal, as read (f64 so doubles lose nothing early).
+/// The names a vertex colour's channels may have, in order of preference.
+const COLOR_NAMES: [[&str; 3]; 3] = [
+    ["red", "green", "blue"],
+    ["r", "g", "b"],
+    ["diffuse_red", "diffuse_green", "diffuse_blue"],
+];
+
+/// One `vertex` element: position, normal and colour channels, as read (f64 so doubles lose
+/// nothing early; colours as written, scaled once the header's type is known).
 #[derive(Default)]
 struct PlyVertex {
     position: [f64; 3],
     normal: [f64; 3],
+    /// Per set of [`COLOR_NAMES`], its three channels.
+    rgb: [[f64; 3]; 3],
 }
 
 impl PlyVertex {
@@ -40,7 +58,15 @@ impl PlyVertex {
             "nx" => &mut self.normal[0],
             "ny" => &mut self.normal[1],
             "nz" => &mut self.normal[2],
-            _ => return PropertyAccessResult::Ignored,
+            _ => {
+                let found = COLOR_NAMES.iter().enumerate().find_map(|(set, names)| {
+                    names.iter().position(|n| *n == name).map(|c| (set, c))
+                });
+                match found {
+                    Some((set, channel)) => &mut self.rgb[set][channel],
+                    None => return PropertyAccessResult::Ignored,
+                }
+            }
         };
         *slot = value;
         PropertyAccessResult::Set
@@ -148,6 +174,22 @@ impl PropertyAccess for Skip {
 struct Layout {
     vertices: usize,
     has_normals: bool,
+    /// The set of [`COLOR_NAMES`] the colours have, and the divisor of each channel.
+    colors: Option<(usize, [f64; 3])>,
+    /// What the header holds that is read past with a warning.
+    warnings: Vec<String>,
+}
+
+/// The divisor that maps a colour channel of `ty` to `[0, 1]`; `None` for signed integers,
+/// whose range no writer agrees on.
+fn color_divisor(ty: &ScalarType) -> Option<f64> {
+    match ty {
+        ScalarType::UChar => Some(255.0),
+        ScalarType::UShort => Some(65535.0),
+        ScalarType::UInt => Some(f64::from(u32::MAX)),
+        ScalarType::Float | ScalarType::Double => Some(1.0),
+        ScalarType::Char | ScalarType::Short | ScalarType::Int => None,
+    }
 }
 
 /// Checks the `vertex` and `face` elements' properties before any data is read, so a file
@@ -180,6 +222,29 @@ fn layout(header: &Header, file: &str) -> Result<Layout, MeshError> {
     let has_normals = ["nx", "ny", "nz"]
         .iter()
         .all(|n| scalar_named(n) == Some(true));
+    let mut warnings = Vec::new();
+    let colors = COLOR_NAMES.iter().enumerate().find_map(|(set, names)| {
+        let types: Vec<&ScalarType> = names
+            .iter()
+            .filter_map(|n| match &vertex.properties.get(*n)?.data_type {
+                PropertyType::Scalar(ty) => Some(ty),
+                PropertyType::List(..) => None,
+            })
+            .collect();
+        let [r, g, b] = types[..] else {
+            return None;
+        };
+        match (color_divisor(r), color_divisor(g), color_divisor(b)) {
+            (Some(r), Some(g), Some(b)) => Some((set, [r, g, b])),
+            _ => {
+                warnings.push(format!(
+                    "{file}: header: vertex colour `{}` has a signed integer type; colours not read",
+                    names.join(" ")
+                ));
+                None
+            }
+        }
+    });
     if let Some(face) = header.elements.get("face") {
         let list = FACE_LISTS
             .iter()
@@ -206,137 +271,9 @@ fn layout(header: &Header, file: &str) -> Result<Layout, MeshError> {
     Ok(Layout {
         vertices: vertex.count,
         has_normals,
+        colors,
+        warnings,
     })
-}
-
-/// Where the reader is, for messages: the element (`face 7 of 40`, named only when an error
-/// needs it: a label per element would cost more than reading it), and its line in an ASCII
-/// file.
-struct Place<'a> {
-    def: &'a ElementDef,
-    index: usize,
-    line: Option<usize>,
-}
-
-impl Place<'_> {
-    fn error(&self, file: &str, what: impl Into<String>) -> MeshError {
-        let element = format!("{} {} of {}", self.def.name, self.index + 1, self.def.count);
-        match self.line {
-            Some(line) => MeshError::Parse {
-                file: file.to_owned(),
-                line,
-                what: format!("{element}: {}", what.into()),
-            },
-            None => element_error(file, element, what),
-        }
-    }
-}
-
-/// The crate's message without its own `Line N: ` prefix (this module names the place).
-fn message(e: &ParseError) -> String {
-    let text = e.to_string();
-    let text = match e.line() {
-        Some(line) => text
-            .strip_prefix(&format!("Line {line}: "))
-            .map(str::to_owned)
-            .unwrap_or_else(|| text.clone()),
-        None => text,
-    };
-    one_line(&text)
-}
-
-/// At most 40 characters of `text`, for messages.
-fn clip(text: &str) -> String {
-    match text.char_indices().nth(40) {
-        Some((end, _)) => format!("{}...", &text[..end]),
-        None => text.to_owned(),
-    }
-}
-
-/// Reads elements of one definition, one at a time, from the payload that `rest` holds.
-struct Payload<'a> {
-    rest: &'a [u8],
-    encoding: Encoding,
-    /// 1-based line of the next ASCII line.
-    line: usize,
-}
-
-impl Payload<'_> {
-    /// Element `index` of `def`, and where it was.
-    fn read<'d, E: PropertyAccess>(
-        &mut self,
-        parser: &Parser<E>,
-        def: &'d ElementDef,
-        index: usize,
-        file: &str,
-    ) -> Result<(E, Place<'d>), MeshError> {
-        match self.encoding {
-            Encoding::Ascii => {
-                // Blank lines between elements are tolerated (some writers end with one).
-                loop {
-                    let Some(end) = self.rest.iter().position(|&b| b == b'\n') else {
-                        if self.rest.iter().all(u8::is_ascii_whitespace) {
-                            let place = Place {
-                                def,
-                                index,
-                                line: Some(self.line),
-                            };
-                            return Err(place.error(file, "the file ends before it (truncated)"));
-                        }
-                        break;
-                    };
-                    if self.rest[..end].iter().all(u8::is_ascii_whitespace) {
-                        self.rest = &self.rest[end + 1..];
-                        self.line += 1;
-                    } else {
-                        break;
-                    }
-                }
-                let end = self
-                    .rest
-                    .iter()
-                    .position(|&b| b == b'\n')
-                    .map_or(self.rest.len(), |e| e + 1);
-                let (raw, rest) = self.rest.split_at(end);
-                self.rest = rest;
-                let place = Place {
-                    def,
-                    index,
-                    line: Some(self.line),
-                };
-                self.line += 1;
-                let text =
-                    std::str::from_utf8(raw).map_err(|_| place.error(file, "not valid UTF-8"))?;
-                let value = parser.read_ascii_element(text, def).map_err(|e| {
-                    let why = message(&e);
-                    // The crate quotes the line inside a nested message; keep its last reason.
-                    let why = why.rsplit("Error: ").next().unwrap_or(&why).trim();
-                    place.error(file, format!("cannot read '{}': {why}", clip(text.trim())))
-                })?;
-                Ok((value, place))
-            }
-            Encoding::BinaryLittleEndian | Encoding::BinaryBigEndian => {
-                let place = Place {
-                    def,
-                    index,
-                    line: None,
-                };
-                let value = if self.encoding == Encoding::BinaryLittleEndian {
-                    parser.read_little_endian_element(&mut self.rest, def)
-                } else {
-                    parser.read_big_endian_element(&mut self.rest, def)
-                };
-                let value = value.map_err(|e| {
-                    if e.kind() == std::io::ErrorKind::UnexpectedEof {
-                        place.error(file, "the file ends inside it (truncated)")
-                    } else {
-                        place.error(file, message(&e))
-                    }
-                })?;
-                Ok((value, place))
-            }
-        }
-    }
 }
 
 /// Parses a PLY file's bytes; `file` names it in messages.
@@ -350,6 +287,7 @@ pub(super) fn parse(
             file: file.to_owned(),
         });
     }
+    words::check_header(bytes, file)?;
     let mut reader = Reader::new(bytes);
     let header = Parser::<Skip>::new()
         .read_header(&mut reader)
@@ -379,14 +317,12 @@ pub(super) fn parse(
     let layout = layout(&header, file)?;
     let rest: &[u8] = reader.get_ref();
     let header_len = bytes.len() - rest.len();
-    let mut payload = Payload {
-        rest,
-        encoding: header.encoding,
-        line: bytes[..header_len].iter().filter(|&&b| b == b'\n').count() + 1,
-    };
+    let header_lines = bytes[..header_len].iter().filter(|&&b| b == b'\n').count();
+    let mut payload = Payload::new(rest, header.encoding, header_lines, file)?;
 
     let mut positions: Vec<Vec3> = Vec::with_capacity(layout.vertices.min(1 << 20));
     let mut normals: Vec<Vec3> = Vec::new();
+    let mut colors: Vec<Vec3> = Vec::new();
     // Faces flat: `corners[face_starts[f]..face_starts[f + 1]]`.
     let mut corners: Vec<u32> = Vec::new();
     let mut face_starts: Vec<usize> = vec![0];
@@ -416,6 +352,13 @@ pub(super) fn parse(
                             return Err(place.error(file, "NaN or infinite normal"));
                         }
                         normals.push(Vec3::from_array(n));
+                    }
+                    if let Some((set, divisor)) = layout.colors {
+                        let c = [0, 1, 2].map(|k| (v.rgb[set][k] / divisor[k]) as f32);
+                        if !c.iter().all(|x| x.is_finite()) {
+                            return Err(place.error(file, "NaN or infinite colour"));
+                        }
+                        colors.push(unit_color(Vec3::from_array(c)));
                     }
                 }
                 "face" => {
@@ -450,7 +393,7 @@ pub(super) fn parse(
         }
     }
 
-    let mut warnings = Vec::new();
+    let mut warnings = layout.warnings;
     if short_faces > 0 {
         warnings.push(format!(
             "{file}: {short_faces} faces with fewer than 3 vertices skipped"
@@ -478,6 +421,10 @@ pub(super) fn parse(
             add(&mut soup, t.map(|k| polygon[k]), face);
         }
     }
+    if layout.colors.is_some() {
+        // Colours are per file vertex, as normals are: the same corner indices.
+        soup.colors = Some((colors, normal_ix.clone()));
+    }
     if layout.has_normals {
         soup.normals = Some((normals, normal_ix));
     }
@@ -486,66 +433,4 @@ pub(super) fn parse(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn error(text: &str) -> String {
-        match parse(text.as_bytes(), "t.ply", &NormalOptions::default()) {
-            Ok(_) => panic!("expected an error for {text:?}"),
-            Err(e) => e.to_string(),
-        }
-    }
-
-    const HEADER: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n\
-                          property float y\nproperty float z\nelement face 1\n\
-                          property list uchar int vertex_indices\nend_header\n";
-
-    #[test]
-    fn ascii_triangle_loads() {
-        let text = format!("{HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
-        let (m, w) = parse(text.as_bytes(), "t.ply", &NormalOptions::default()).expect("loads");
-        assert_eq!(m.indices.len(), 1);
-        assert!(w.is_empty());
-        assert!(m.is_consistent());
-    }
-
-    #[test]
-    fn ascii_errors_name_the_line() {
-        let e = error(&format!("{HEADER}0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n"));
-        assert!(
-            e.starts_with("t.ply:11: vertex 2 of 3: cannot read '1 x 0'"),
-            "{e}"
-        );
-        assert!(!e.contains('\n'), "{e}");
-        let e = error(&format!("{HEADER}0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"));
-        assert!(
-            e.starts_with("t.ply:13: face 1 of 1: vertex index 3 out of range"),
-            "{e}"
-        );
-        let e = error(&format!("{HEADER}0 0 0\n1 1e39 0\n0 1 0\n3 0 1 2\n"));
-        assert!(
-            e.starts_with("t.ply:11: vertex 2 of 3: NaN or infinite"),
-            "{e}"
-        );
-        let e = error(&format!("{HEADER}0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n"));
-        assert!(e.starts_with("t.ply:11: vertex 2 of 3: cannot read"), "{e}");
-        let e = error(&format!("{HEADER}0 0 0\n1 0 0\n"));
-        assert!(
-            e.starts_with("t.ply:12: vertex 3 of 3: the file ends"),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn header_problems_are_named() {
-        let e = error("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n");
-        assert!(
-            e.starts_with("t.ply: header: vertex has no property `y`"),
-            "{e}"
-        );
-        let e = error("plx\n");
-        assert!(e.starts_with("t.ply"), "{e}");
-        let e = error(&HEADER.replace("list uchar int", "list uchar float"));
-        assert!(e.contains("floating-point"), "{e}");
-    }
-}
+mod tests;
