@@ -1,6 +1,7 @@
 //! Orthographic cameras and the standard views: a scene file's `projection` and
 //! `ortho_height` are read, checked by field and written back; an orthographic picture keeps
-//! an object's size at every distance; and perspective stays the default, drawn as before.
+//! an object's size at every distance; perspective stays the default, drawn as before; and a
+//! scene without lights says so.
 
 #![allow(clippy::unwrap_used)]
 
@@ -90,4 +91,28 @@ fn an_orthographic_view_keeps_sizes_whatever_the_distance() {
     assert_eq!(near, far);
     let persp = Projection::Perspective;
     assert!(covered(at(3.0, persp)) > 4 * covered(at(30.0, persp)));
+}
+
+#[test]
+fn a_scene_with_objects_and_no_lights_warns_once() {
+    let s = Scene::parse(
+        "[[objects]]\nprimitive = { shape = \"cube\", half_size = 1.0 }\n",
+        "dark.toml",
+    )
+    .unwrap();
+    assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+    assert!(
+        s.warnings[0].starts_with("warning: dark.toml: lights: none,"),
+        "{}",
+        s.warnings[0]
+    );
+    assert!(s.warnings[0].contains("black"), "{}", s.warnings[0]);
+    let lit_by_ambient = Scene::parse(
+        "[ambient]\nintensity = 0.2\n[[objects]]\nprimitive = { shape = \"cube\", half_size = 1.0 }\n",
+        "t.toml",
+    )
+    .unwrap();
+    assert!(!lit_by_ambient.warnings[0].contains("black"));
+    // Nothing to light, nothing to say.
+    assert!(Scene::parse("", "t.toml").unwrap().warnings.is_empty());
 }

@@ -126,6 +126,16 @@ pub fn parse_scene(
         )?;
     }
     root.finish(TOP)?;
+    if scene.light_count() == 0 && scene.world.query::<&MeshRef>().iter().next().is_some() {
+        scene.warnings.push(format!(
+            "warning: {file}: lights: none, so only the ambient term lights the objects{}",
+            if scene.ambient == Vec3::ZERO {
+                " and the picture is black (add [[lights]] or [ambient])"
+            } else {
+                " (add [[lights]] for shading)"
+            }
+        ));
+    }
     Ok(scene)
 }
 
