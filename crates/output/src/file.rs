@@ -154,14 +154,12 @@ pub(crate) fn write_through<S: Storage>(
         use std::os::unix::fs::PermissionsExt as _;
         builder.permissions(fs::Permissions::from_mode(0o666));
     }
-    let temp = builder.tempfile_in(&dir).map_err(|e| {
+    let (file, pending) = cleanup::Pending::create(|| builder.tempfile_in(&dir)).map_err(|e| {
         fail(format!(
             "cannot create a temporary file in {}: {e}",
             dir.display()
         ))
     })?;
-    let (file, temp_path) = temp.into_parts();
-    let pending = cleanup::Pending::register(temp_path);
     if let Some(meta) = &existing {
         keep_owner_and_mode(&file, meta).map_err(|e| fail(e.to_string()))?;
     }
