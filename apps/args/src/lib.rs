@@ -1,7 +1,9 @@
 //! Command-line arguments shared by Phosphor's programs (`phosphor` and `phosphor-viewer`):
 //! the camera flags (`--eye --target --up --fov`, or the orbit form `--azimuth --elevation
-//! --distance`), the normal flags of `--mesh`, `--aa`, and the automatic framing of a mesh, so
-//! that both programs take the same flags with the same checks and messages.
+//! --distance`, the standard views `--view`, the projection `--ortho`), the normal flags of
+//! `--mesh`, `--aa`, the check of a mesh's extension, the automatic framing of a mesh, and the
+//! help headings every flag is listed under, so that both programs take the same flags with
+//! the same checks and messages.
 //!
 //! Every check returns a one-line message naming its flag; each program turns it into its own
 //! usage error (exit 2).
@@ -23,12 +25,30 @@
 //! assert!(camera_override(&bad.camera).unwrap_err().starts_with("--fov: "));
 //! ```
 
+use std::path::Path;
+
 use clap::{Args, ValueEnum};
 use phosphor_math::glam::Vec3;
 use phosphor_mesh::{NormalOptions, NormalSource, Weighting};
-use phosphor_raster::{Antialias, UnknownAntialias};
+use phosphor_raster::{Antialias, Camera, Projection, UnknownAntialias};
 use phosphor_scene::Scene;
+use phosphor_scene::preset::{ViewPreset, preset_camera};
 use phosphor_scene::view::{CameraOption, CameraOverride, framed_camera, parse_vec3};
+
+/// Help heading of the camera flags.
+pub const CAMERA_HEADING: &str =
+    "Camera (overrides the scene's; orbit angles about --up, azimuth 0 = from +Z)";
+/// Help heading of the normal flags of `--mesh`.
+pub const NORMALS_HEADING: &str = "Normals of --mesh (as a scene file's `normals = { ... }`)";
+/// Help heading of what is shown: the scene file or mesh.
+pub const INPUT_HEADING: &str = "Input";
+/// Help heading of how a frame is drawn: shading, anti-aliasing, culling, size, threads.
+pub const RENDERING_HEADING: &str = "Rendering";
+/// Help heading of what is written: files, their encoding, `--force`.
+pub const OUTPUT_HEADING: &str = "Output";
+
+/// The extensions a mesh file may have (any case); a name without one is read as OBJ.
+pub const MESH_EXTENSIONS: [&str; 5] = ["obj", "ply", "stl", "gltf", "glb"];
 
 /// Azimuth of the view `--mesh` starts from, degrees (a three-quarter view, as
 /// `phosphor render --mesh`).
@@ -38,31 +58,42 @@ pub const MESH_ELEVATION_DEG: f32 = 20.0;
 
 /// The camera flags, shared by `phosphor render`, `bench`, `accuracy` and the viewer.
 #[derive(Clone, Debug, Default, Args)]
-#[command(
-    next_help_heading = "Camera (overrides the scene's; orbit angles about --up, azimuth 0 = from +Z)"
-)]
 pub struct CameraArgs {
     /// Eye position.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    #[arg(long, help_heading = CAMERA_HEADING, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub eye: Option<String>,
     /// The point looked at; also the orbit centre.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    #[arg(long, help_heading = CAMERA_HEADING, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub target: Option<String>,
     /// Up direction.
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    #[arg(long, help_heading = CAMERA_HEADING, value_name = "X,Y,Z", allow_hyphen_values = true)]
     pub up: Option<String>,
     /// Vertical field of view in degrees, in (0, 180).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_given)]
+    #[arg(long, help_heading = CAMERA_HEADING, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_given)]
     pub fov: Option<Given>,
     /// Orbit: degrees about the up axis around the scene's centre (or --target); +90 looks from +X.
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_given)]
+    #[arg(long, help_heading = CAMERA_HEADING, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_given)]
     pub azimuth: Option<Given>,
     /// Orbit: degrees above the plane normal to up, in (-90, 90).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_given)]
+    #[arg(long, help_heading = CAMERA_HEADING, value_name = "DEG", allow_hyphen_values = true, value_parser = parse_given)]
     pub elevation: Option<Given>,
     /// Orbit: distance from the centre (> 0). Orbit values left out keep the scene camera's.
-    #[arg(long, value_name = "D", allow_hyphen_values = true, value_parser = parse_given)]
+    #[arg(long, help_heading = CAMERA_HEADING, value_name = "D", allow_hyphen_values = true, value_parser = parse_given)]
     pub distance: Option<Given>,
+    /// Orthographic projection (parallel rays): the image spans what the perspective view
+    /// spans at the target, so --distance zooms. The lighting's viewer stays at the eye.
+    #[arg(long, help_heading = CAMERA_HEADING)]
+    pub ortho: bool,
+    /// A standard view of the whole scene, framed to fit: front (from +Z), back, left, right
+    /// (from +X), top (down from +Y), bottom or iso (from the +X+Y+Z diagonal).
+    #[arg(
+        long,
+        help_heading = CAMERA_HEADING,
+        value_name = "front|back|left|right|top|bottom|iso",
+        value_parser = parse_view,
+        conflicts_with_all = ["eye", "up", "azimuth", "elevation"]
+    )]
+    pub view: Option<ViewPreset>,
 }
 
 /// A number given on the command line: the single-precision value the renderer uses, and the
@@ -134,23 +165,22 @@ pub enum WeightingArg {
 
 /// The normal flags of `--mesh`, mirroring a scene file's `normals = { ... }`.
 #[derive(Clone, Debug, Default, Args)]
-#[command(next_help_heading = "Normals of --mesh (as a scene file's `normals = { ... }`)")]
 pub struct NormalArgs {
     /// Faces meeting at a sharper angle (degrees, 0..=180) keep separate normals. Default: the
     /// scene files' (the OBJ's smoothing groups if it has `s` lines, else 60).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    #[arg(long, help_heading = NORMALS_HEADING, value_name = "DEG", allow_hyphen_values = true)]
     pub crease_angle: Option<f32>,
     /// Authored `vn` (`file`, also `authored`) or normals computed from the geometry.
-    #[arg(long, value_enum, value_name = "file|computed")]
+    #[arg(long, help_heading = NORMALS_HEADING, value_enum, value_name = "file|computed")]
     pub normals: Option<NormalsArg>,
     /// Weighting of face normals at a vertex.
-    #[arg(long, value_enum, value_name = "uniform|area|angle")]
+    #[arg(long, help_heading = NORMALS_HEADING, value_enum, value_name = "uniform|area|angle")]
     pub weighting: Option<WeightingArg>,
     /// Ignore the OBJ's smoothing groups (`s` lines).
-    #[arg(long)]
+    #[arg(long, help_heading = NORMALS_HEADING)]
     pub no_smoothing_groups: bool,
     /// Never average normals across faces of different materials.
-    #[arg(long)]
+    #[arg(long, help_heading = NORMALS_HEADING)]
     pub split_by_material: bool,
 }
 
@@ -246,21 +276,30 @@ pub fn camera_override(args: &CameraArgs) -> Result<CameraOverride, String> {
     Ok(o)
 }
 
-/// Frames a `--mesh` scene for a window of `size` (its bounding sphere fits the view) and
-/// applies the camera change.
+/// Frames the scene for a window of `size` and applies the camera flags: `--view` puts the
+/// camera at a standard view fitted to the whole scene (at `--fov` where given); otherwise a
+/// `--mesh` scene (`frame_mesh`) is seen from azimuth 30, elevation 20, fitted the same way.
+/// Then the camera change applies, and `--ortho` makes the projection orthographic. A scene
+/// camera that is orthographic already stays so, its height fitted anew when framed.
 ///
 /// # Errors
 /// A camera change that cannot be made (eye on the target, view parallel to up), naming the flag.
 pub fn frame_and_apply(
     scene: &mut Scene,
+    args: &CameraArgs,
     change: &CameraOverride,
     frame_mesh: bool,
     size: (u32, u32),
 ) -> Result<(), String> {
     let bounds = scene.bounding_sphere();
-    if frame_mesh {
-        let (centre, radius) = bounds.unwrap_or((Vec3::ZERO, 1.0));
-        let fov = scene.camera().fov_y_deg;
+    let (centre, radius) = bounds.unwrap_or((Vec3::ZERO, 1.0));
+    let aspect = size.0.max(1) as f32 / size.1.max(1) as f32;
+    let was_orthographic = matches!(scene.camera().projection, Projection::Orthographic { .. });
+    let fov = scene.camera().fov_y_deg;
+    if let Some(view) = args.view {
+        let fov = change.fov_y_deg.unwrap_or(fov);
+        scene.set_camera(preset_camera(view, centre, radius, fov, aspect));
+    } else if frame_mesh {
         scene.set_camera(framed_camera(
             centre,
             radius,
@@ -268,14 +307,61 @@ pub fn frame_and_apply(
             MESH_AZIMUTH_DEG,
             MESH_ELEVATION_DEG,
             fov,
-            size.0.max(1) as f32 / size.1.max(1) as f32,
+            aspect,
         ));
     }
-    let cam = change
+    let framed = args.view.is_some() || frame_mesh;
+    let mut cam = change
         .apply(scene.camera(), bounds)
         .map_err(|e| e.to_string())?;
+    if (args.ortho && !was_orthographic) || (was_orthographic && framed) {
+        cam = orthographic(cam);
+    }
     scene.set_camera(cam);
     Ok(())
+}
+
+/// `camera` made orthographic, spanning what its perspective view spans at the target.
+#[must_use]
+pub fn orthographic(camera: Camera) -> Camera {
+    let perspective = Camera {
+        projection: Projection::Perspective,
+        ..camera
+    };
+    Camera {
+        projection: Projection::Orthographic {
+            height: perspective.view_height_at_target(),
+        },
+        ..camera
+    }
+}
+
+/// Parses a view name for `--view`.
+///
+/// # Errors
+/// An unknown name, listing the known ones.
+pub fn parse_view(text: &str) -> Result<ViewPreset, String> {
+    text.parse()
+}
+
+/// Checks that `path` names a mesh by its extension: one of [`MESH_EXTENSIONS`] (any case),
+/// or none (read as OBJ). `flag` names the flag in the message, if there is one.
+///
+/// # Errors
+/// `FLAG: PATH: unknown extension `.md` (...)`.
+pub fn check_mesh_path(flag: Option<&str>, path: &Path) -> Result<(), String> {
+    let Some(ext) = path.extension() else {
+        return Ok(());
+    };
+    let ext = ext.to_string_lossy();
+    if MESH_EXTENSIONS.iter().any(|e| ext.eq_ignore_ascii_case(e)) {
+        return Ok(());
+    }
+    Err(format!(
+        "{}{}: unknown extension `.{ext}` (a mesh is .obj, .ply, .stl, .gltf or .glb)",
+        flag.map_or_else(String::new, |f| format!("{f}: ")),
+        path.display()
+    ))
 }
 
 /// Parses an anti-aliasing name for `--aa`.
@@ -345,6 +431,57 @@ mod tests {
             "--fov: must be between 0 and 180 (exclusive), got 180.0"
         );
         assert!(parse_given("ninety").is_err());
+    }
+
+    #[test]
+    fn mesh_paths_need_a_mesh_extension_or_none() {
+        for ok in ["a.obj", "b.PLY", "c.stl", "d.gltf", "e.GLB", "no-extension"] {
+            assert_eq!(
+                check_mesh_path(Some("--mesh"), Path::new(ok)),
+                Ok(()),
+                "{ok}"
+            );
+        }
+        assert_eq!(
+            check_mesh_path(Some("--mesh"), Path::new("assets/meshes/SOURCES.md")).unwrap_err(),
+            "--mesh: assets/meshes/SOURCES.md: unknown extension `.md` (a mesh is .obj, .ply, .stl, .gltf or .glb)"
+        );
+        assert!(
+            check_mesh_path(None, Path::new("x.txt"))
+                .unwrap_err()
+                .starts_with("x.txt: unknown extension")
+        );
+    }
+
+    #[test]
+    fn views_and_ortho_frame_the_whole_scene() {
+        let args = |view: Option<ViewPreset>, ortho: bool| CameraArgs {
+            view,
+            ortho,
+            ..CameraArgs::default()
+        };
+        let framed = |a: &CameraArgs| {
+            let mut scene = Scene::default_scene().unwrap();
+            let change = camera_override(a).unwrap();
+            frame_and_apply(&mut scene, a, &change, false, (320, 240)).unwrap();
+            (scene.camera(), scene.bounding_sphere().unwrap())
+        };
+        let (top, (centre, radius)) = framed(&args(Some(ViewPreset::Top), false));
+        assert_eq!(top.target, centre);
+        assert!(top.eye.y > centre.y + radius, "{top:?}");
+        assert_eq!(top.projection, Projection::Perspective);
+        let (ortho_top, _) = framed(&args(Some(ViewPreset::Top), true));
+        let Projection::Orthographic { height } = ortho_top.projection else {
+            panic!("not orthographic: {ortho_top:?}");
+        };
+        // The bounding sphere's diameter fits the image's height, with a small margin.
+        assert!(
+            height > 2.0 * radius && height < 2.4 * radius,
+            "{height} vs {radius}"
+        );
+        // Without --view nor --ortho the scene's own camera stays exactly as it is.
+        let (own, _) = framed(&CameraArgs::default());
+        assert_eq!(own, Scene::default_scene().unwrap().camera());
     }
 
     #[test]

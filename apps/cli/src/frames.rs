@@ -26,7 +26,9 @@ pub struct FrameRange {
 
 impl std::fmt::Display for FrameRange {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.inclusive {
+        if self.inclusive && self.end == self.start.saturating_add(1) {
+            write!(f, "{}", self.start)
+        } else if self.inclusive {
             write!(f, "{}..={}", self.start, self.end.saturating_sub(1))
         } else {
             write!(f, "{}..{}", self.start, self.end)
@@ -87,7 +89,10 @@ pub fn frames_to_render(
     range: Option<FrameRange>,
 ) -> Result<Range<u32>, CliError> {
     match (turntable, range) {
-        (None, _) => Ok(0..1),
+        (None, Some(r)) => Err(CliError::Usage(format!(
+            "--frames {r}: picks frames of a turntable; add --turntable N (e.g. --turntable 36 --frames {r})"
+        ))),
+        (None, None) => Ok(0..1),
         (Some(n), None) => Ok(0..n),
         (Some(n), Some(r)) => {
             if r.end > n {
@@ -215,16 +220,28 @@ pub enum Output {
     Files(OutputPattern),
 }
 
-/// Checks the output against the frames to write: `-o -` takes one PNG frame and no `--plan`
-/// (whose text would mix with the image); several frames need a numbered name.
+/// Checks the output against the frames to write: `-o -` takes one PNG frame, no `--plan`
+/// (whose text would mix with the image) and no terminal (`stdout_is_terminal`: a picture's
+/// bytes would scramble it); several frames need a numbered name.
 ///
 /// # Errors
 /// The combination that cannot work (usage).
-pub fn output_for(out: Option<&Path>, frames: usize, plan: bool) -> Result<Output, CliError> {
+pub fn output_for(
+    out: Option<&Path>,
+    frames: usize,
+    plan: bool,
+    stdout_is_terminal: bool,
+) -> Result<Output, CliError> {
     let Some(out) = out else {
         return Ok(Output::None);
     };
     if out.as_os_str() == "-" {
+        if stdout_is_terminal {
+            return Err(CliError::Usage(
+                "-o -: standard output is a terminal; send the PNG to a file or a program (`-o - > out.png`, `-o - | display`)"
+                    .to_owned(),
+            ));
+        }
         if frames > 1 {
             return Err(CliError::Usage(format!(
                 "-o -: standard output takes one frame, {frames} were asked for (use --frames K, or a numbered file name)"
@@ -275,6 +292,12 @@ mod tests {
     fn frames_must_lie_within_the_turntable() {
         let r = |t| parse_frame_range(t).unwrap();
         assert_eq!(frames_to_render(None, None).unwrap(), 0..1);
+        let e = frames_to_render(None, Some(r("2"))).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "--frames 2: picks frames of a turntable; add --turntable N (e.g. --turntable 36 --frames 2)"
+        );
+        assert_eq!(e.exit_code(), 2);
         assert_eq!(frames_to_render(Some(3), None).unwrap(), 0..3);
         assert_eq!(frames_to_render(Some(8), Some(r("6..8"))).unwrap(), 6..8);
         assert_eq!(frames_to_render(Some(8), Some(r("7"))).unwrap(), 7..8);
@@ -291,7 +314,7 @@ mod tests {
         // A list of them was 16 GB, collected before `-o` was checked.
         let frames = frames_to_render(Some(u32::MAX), None).unwrap();
         assert_eq!(frames.len(), u32::MAX as usize);
-        let e = output_for(Some(Path::new("x.png")), frames.len(), false).unwrap_err();
+        let e = output_for(Some(Path::new("x.png")), frames.len(), false, false).unwrap_err();
         assert_eq!(e.exit_code(), 2);
         assert!(e.to_string().contains("4294967295 frames"), "{e}");
     }
@@ -314,16 +337,28 @@ mod tests {
 
     #[test]
     fn outputs_fit_the_number_of_frames() {
-        assert_eq!(output_for(None, 3, true).unwrap(), Output::None);
+        assert_eq!(output_for(None, 3, true, false).unwrap(), Output::None);
         assert_eq!(
-            output_for(Some(Path::new("-")), 1, false).unwrap(),
+            output_for(Some(Path::new("-")), 1, false, false).unwrap(),
             Output::Stdout
         );
-        assert!(output_for(Some(Path::new("-")), 2, false).is_err());
-        assert!(output_for(Some(Path::new("-")), 1, true).is_err());
-        assert!(output_for(Some(Path::new("x.png")), 1, false).is_ok());
-        let e = output_for(Some(Path::new("x.png")), 2, false).unwrap_err();
+        assert!(output_for(Some(Path::new("-")), 2, false, false).is_err());
+        assert!(output_for(Some(Path::new("-")), 1, true, false).is_err());
+        assert!(output_for(Some(Path::new("x.png")), 1, false, false).is_ok());
+        let e = output_for(Some(Path::new("x.png")), 2, false, false).unwrap_err();
         assert!(e.to_string().contains("%04d"), "{e}");
-        assert!(output_for(Some(Path::new("x%03d.png")), 2, false).is_ok());
+        assert!(output_for(Some(Path::new("x%03d.png")), 2, false, false).is_ok());
+    }
+
+    #[test]
+    fn standard_output_on_a_terminal_is_refused_and_files_are_not_affected() {
+        let e = output_for(Some(Path::new("-")), 1, false, true).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("-o -: standard output is a terminal;"),
+            "{e}"
+        );
+        assert_eq!(e.exit_code(), 2);
+        assert!(output_for(Some(Path::new("x.png")), 1, false, true).is_ok());
     }
 }

@@ -7,10 +7,13 @@
 //! phosphor accuracy [SCENE.toml] [--mesh FILE.obj] [--size WxH] [--out-dir DIR]
 //! phosphor info FILE.obj
 //! phosphor bench [SCENE.toml] [--mesh FILE.obj] [--shading MODE|all] [--size WxH] [--threads N] [--frames N]
+//! phosphor completions bash|zsh|fish|powershell
+//! phosphor man
 //! ```
 //!
 //! `render`, `accuracy` and `bench` also take the camera flags `--eye X,Y,Z --target X,Y,Z
-//! --up X,Y,Z --fov DEG` or the orbit form `--azimuth DEG --elevation DEG --distance D`, and,
+//! --up X,Y,Z --fov DEG` or the orbit form `--azimuth DEG --elevation DEG --distance D`, the
+//! standard views `--view front|back|left|right|top|bottom|iso`, `--ortho`, and,
 //! with `--mesh`, the normal flags `--crease-angle DEG --normals file|computed
 //! --weighting uniform|area|angle --no-smoothing-groups --split-by-material`.
 //!
@@ -31,6 +34,7 @@ macro_rules! say {
 mod accuracy;
 mod args;
 mod commands;
+mod folders;
 mod font;
 mod frames;
 mod limits;
@@ -84,6 +88,8 @@ fn main() -> ExitCode {
         Command::Accuracy(a) => commands::accuracy::run(&a),
         Command::Info(a) => commands::info::run(&a),
         Command::Bench(a) => commands::bench::run(&a),
+        Command::Completions(a) => commands::shell::completions(&a),
+        Command::Man => commands::shell::man(),
     };
     match result {
         Ok(()) => {

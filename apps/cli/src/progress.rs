@@ -1,101 +1,131 @@
-//! A progress line on stderr for commands that take more than a second, on a terminal only:
-//! what is being done, the fraction done, the time so far and, where the work done so far
-//! gives a rate, the time left.
+//! Progress bars on stderr (indicatif) for commands that take more than a second, on a
+//! terminal only: what is being done, the share done, the time so far and, from the rate so
+//! far, the time left.
 //!
-//! The fraction is what the command can count: for `render`, its stages (loading, rendering,
-//! saving) with the rows written while saving; for `accuracy`, the frames drawn. The renderer
-//! draws a frame in one call, so a single frame's own progress is not counted.
+//! A command adds its bars hidden and calls [`Progress::show_after`]: only if it is still
+//! running a second later, and stderr is a terminal, do the bars appear, redrawn ten times a
+//! second. `render` shows one bar for a sequence, counting its frames, above the current
+//! frame's bar (its stage: loading, rendering, saving with the rows written); `accuracy` one
+//! bar counting the frames it draws. The renderer draws a frame in one call, so a frame's own
+//! rendering is not counted within it.
 
-use std::io::{IsTerminal, Write};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex, PoisonError};
-use std::time::{Duration, Instant};
+use std::io::IsTerminal;
+use std::sync::{Arc, Condvar, Mutex, PoisonError};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// Nothing is shown for commands shorter than this.
-const QUIET_FOR: Duration = Duration::from_secs(1);
-/// Redraw interval.
+pub const QUIET_FOR: Duration = Duration::from_secs(1);
+/// Redraw interval once shown.
 const TICK: Duration = Duration::from_millis(100);
-/// Width of the bar in characters.
-const BAR: usize = 24;
+/// Steps of a bar that shows a fraction.
+const FRACTION_STEPS: u64 = 1000;
 
-/// What the line shows.
-#[derive(Debug, Clone)]
-struct Shown {
-    label: String,
-    /// Fraction of the whole command done, `[0, 1]`.
-    fraction: f64,
-    /// Time left, when known.
-    left: Option<Duration>,
-    /// Characters of the line now on the terminal (0: none), so that it can be erased.
-    drawn: usize,
+/// A count of whole things (frames): `frames [####....] 3/36, 4.1 s, about 45 s left`.
+const COUNT_TEMPLATE: &str = "{msg} [{bar:24}] {pos}/{len}, {elapsed}, about {eta} left";
+/// A share of one thing: `saving out.png [####....]  50%, 2.5 s, about 3 s left`.
+const FRACTION_TEMPLATE: &str = "{msg} [{bar:24}] {percent:>3}%, {elapsed}, about {eta} left";
+
+/// Set once the command is done, to wake the thread waiting to show the bars.
+type Done = Arc<(Mutex<bool>, Condvar)>;
+
+/// A command's progress bars, hidden until [`Progress::show_after`] shows them.
+pub struct Progress {
+    multi: MultiProgress,
+    bars: Vec<ProgressBar>,
+    waiting: Option<(Done, JoinHandle<()>)>,
 }
 
-/// A progress line drawn by a thread of its own until [`Progress::finish`].
-pub struct Progress {
-    shown: Arc<Mutex<Shown>>,
-    done: Arc<AtomicBool>,
-    handle: Option<std::thread::JoinHandle<()>>,
-    started: Instant,
+fn style(template: &str) -> ProgressStyle {
+    ProgressStyle::with_template(template)
+        .unwrap_or_else(|_| ProgressStyle::default_bar())
+        .progress_chars("##.")
 }
 
 impl Progress {
-    /// Starts the line (drawn only if stderr is a terminal, and only after a second).
-    pub fn start(label: &str) -> Progress {
-        let shown = Arc::new(Mutex::new(Shown {
-            label: label.to_owned(),
-            fraction: 0.0,
-            left: None,
-            drawn: 0,
-        }));
-        let done = Arc::new(AtomicBool::new(false));
-        let started = Instant::now();
-        let handle = std::io::stderr().is_terminal().then(|| {
-            let shown = shown.clone();
-            let done = done.clone();
-            std::thread::spawn(move || draw_until(&shown, &done, started))
-        });
+    /// No bars yet, nothing shown.
+    #[must_use]
+    pub fn new() -> Progress {
         Progress {
-            shown,
-            done,
-            handle,
-            started,
+            multi: MultiProgress::with_draw_target(ProgressDrawTarget::hidden()),
+            bars: Vec::new(),
+            waiting: None,
         }
     }
 
-    /// Shows `label` at `fraction` of the whole command, with the time left if known.
-    pub fn set(&self, label: &str, fraction: f64, left: Option<Duration>) {
-        let mut s = self.shown.lock().unwrap_or_else(PoisonError::into_inner);
-        s.label.clear();
-        s.label.push_str(label);
-        s.fraction = fraction.clamp(0.0, 1.0);
-        s.left = left;
+    /// Adds a bar counting `len` things, labelled `label`.
+    pub fn counter(&mut self, label: &str, len: u64) -> ProgressBar {
+        self.add(
+            ProgressBar::new(len).with_style(style(COUNT_TEMPLATE)),
+            label,
+        )
     }
 
-    /// Erases the line, if drawn, so that a message can be printed; the next tick redraws it
-    /// below that message.
-    pub fn clear_line(&self) {
-        let mut s = self.shown.lock().unwrap_or_else(PoisonError::into_inner);
-        if s.drawn > 0 {
-            let _ = write!(std::io::stderr(), "\r{}\r", " ".repeat(s.drawn));
-            s.drawn = 0;
+    /// Adds a bar showing a fraction (see [`set_fraction`]), labelled `label`.
+    pub fn fraction(&mut self, label: &str) -> ProgressBar {
+        let bar = ProgressBar::new(FRACTION_STEPS).with_style(style(FRACTION_TEMPLATE));
+        self.add(bar, label)
+    }
+
+    fn add(&mut self, bar: ProgressBar, label: &str) -> ProgressBar {
+        let bar = self.multi.add(bar);
+        bar.set_message(label.to_owned());
+        self.bars.push(bar.clone());
+        bar
+    }
+
+    /// Shows the bars on stderr once `delay` has passed, if the command still runs then and
+    /// stderr is a terminal.
+    pub fn show_after(&mut self, delay: Duration) {
+        if !std::io::stderr().is_terminal() {
+            return;
         }
+        let done: Done = Arc::new((Mutex::new(false), Condvar::new()));
+        let (multi, bars, flag) = (self.multi.clone(), self.bars.clone(), done.clone());
+        let handle = std::thread::spawn(move || {
+            let (lock, woken) = &*flag;
+            let finished = lock.lock().unwrap_or_else(PoisonError::into_inner);
+            let (finished, _) = woken
+                .wait_timeout_while(finished, delay, |finished| !*finished)
+                .unwrap_or_else(PoisonError::into_inner);
+            if !*finished {
+                show(&multi, &bars, ProgressDrawTarget::stderr());
+            }
+        });
+        self.waiting = Some((done, handle));
     }
 
-    /// Time since [`Progress::start`].
-    pub fn elapsed(&self) -> Duration {
-        self.started.elapsed()
+    /// Runs `f` (which prints lines) with the bars taken off the terminal, then draws them
+    /// again below what it printed.
+    pub fn suspend<R>(&self, f: impl FnOnce() -> R) -> R {
+        self.multi.suspend(f)
     }
 
-    /// Erases the line and stops the thread.
+    /// Stops waiting to show the bars and erases them.
     pub fn finish(mut self) {
         self.stop();
     }
 
     fn stop(&mut self) {
-        self.done.store(true, Ordering::Relaxed);
-        if let Some(h) = self.handle.take() {
-            let _ = h.join();
+        if let Some((done, handle)) = self.waiting.take() {
+            let (lock, woken) = &*done;
+            *lock.lock().unwrap_or_else(PoisonError::into_inner) = true;
+            woken.notify_all();
+            let _ = handle.join();
         }
+        for bar in &self.bars {
+            bar.finish_and_clear();
+        }
+        // A bar that cannot be erased is not worth failing the command for.
+        let _ = self.multi.clear();
+    }
+}
+
+impl Default for Progress {
+    fn default() -> Self {
+        Progress::new()
     }
 }
 
@@ -105,87 +135,110 @@ impl Drop for Progress {
     }
 }
 
-/// Time left at a constant rate: `elapsed` took `done` of the work.
-#[must_use]
-pub fn time_left(elapsed: Duration, done: f64) -> Option<Duration> {
-    (done > 0.0 && done <= 1.0).then(|| elapsed.mul_f64((1.0 - done) / done))
-}
-
-fn draw_until(shown: &Mutex<Shown>, done: &AtomicBool, started: Instant) {
-    while !done.load(Ordering::Relaxed) {
-        std::thread::sleep(TICK);
-        let t = started.elapsed();
-        if t < QUIET_FOR || done.load(Ordering::Relaxed) {
-            continue;
-        }
-        // The lock is held while drawing, so that `clear_line` never races a redraw.
-        let mut s = shown.lock().unwrap_or_else(PoisonError::into_inner);
-        let line = render_line(&s, t);
-        let width = s.drawn.max(line.chars().count());
-        // A progress line that cannot be drawn is not worth ending the command for: the
-        // command's own messages report a broken stderr.
-        let _ = write!(std::io::stderr(), "\r{line:<width$}");
-        s.drawn = width;
-    }
-    let s = shown.lock().unwrap_or_else(PoisonError::into_inner);
-    if s.drawn > 0 {
-        let _ = write!(std::io::stderr(), "\r{}\r", " ".repeat(s.drawn));
+/// Draws `bars` on `target` from now on, redrawn every [`TICK`].
+fn show(multi: &MultiProgress, bars: &[ProgressBar], target: ProgressDrawTarget) {
+    multi.set_draw_target(target);
+    for bar in bars {
+        bar.enable_steady_tick(TICK);
     }
 }
 
-fn render_line(s: &Shown, elapsed: Duration) -> String {
-    let filled = ((s.fraction * BAR as f64).round() as usize).min(BAR);
-    let left = s
-        .left
-        .map_or_else(String::new, |l| format!(", about {} left", seconds(l)));
-    format!(
-        "{} [{}{}] {:3.0}% {}{left}",
-        s.label,
-        "#".repeat(filled),
-        ".".repeat(BAR - filled),
-        s.fraction * 100.0,
-        seconds(elapsed)
-    )
-}
-
-/// A duration for people: `0.4 s`, `12 s`, `3 min 05 s`.
-#[must_use]
-pub fn seconds(d: Duration) -> String {
-    let s = d.as_secs_f64();
-    if s < 10.0 {
-        format!("{s:.1} s")
-    } else if s < 60.0 {
-        format!("{s:.0} s")
-    } else {
-        let whole = s.round() as u64;
-        format!("{} min {:02} s", whole / 60, whole % 60)
-    }
+/// Sets a bar made by [`Progress::fraction`] to `fraction` (clamped to [0, 1]), labelled `label`.
+pub fn set_fraction(bar: &ProgressBar, label: &str, fraction: f64) {
+    bar.set_message(label.to_owned());
+    let steps = (fraction.clamp(0.0, 1.0) * FRACTION_STEPS as f64).round() as u64;
+    bar.set_position(steps);
 }
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use std::io;
+
+    use indicatif::TermLike;
+
     use super::*;
 
-    #[test]
-    fn the_line_shows_fraction_time_and_time_left() {
-        let s = Shown {
-            label: "saving".to_owned(),
-            fraction: 0.5,
-            left: Some(Duration::from_secs(3)),
-            drawn: 0,
-        };
-        let line = render_line(&s, Duration::from_millis(2500));
-        assert_eq!(
-            line,
-            "saving [############............]  50% 2.5 s, about 3.0 s left"
-        );
+    /// A terminal that keeps what is written to it.
+    #[derive(Debug, Default, Clone)]
+    struct Screen(Arc<Mutex<String>>);
+
+    impl TermLike for Screen {
+        fn width(&self) -> u16 {
+            120
+        }
+        fn move_cursor_up(&self, _: usize) -> io::Result<()> {
+            Ok(())
+        }
+        fn move_cursor_down(&self, _: usize) -> io::Result<()> {
+            Ok(())
+        }
+        fn move_cursor_right(&self, _: usize) -> io::Result<()> {
+            Ok(())
+        }
+        fn move_cursor_left(&self, _: usize) -> io::Result<()> {
+            Ok(())
+        }
+        fn write_line(&self, s: &str) -> io::Result<()> {
+            self.write_str(&format!("{s}\n"))
+        }
+        fn write_str(&self, s: &str) -> io::Result<()> {
+            self.0.lock().unwrap().push_str(s);
+            Ok(())
+        }
+        fn clear_line(&self) -> io::Result<()> {
+            Ok(())
+        }
+        fn flush(&self) -> io::Result<()> {
+            Ok(())
+        }
     }
 
     #[test]
-    fn time_left_follows_the_rate_so_far() {
-        let t = time_left(Duration::from_secs(2), 0.25);
-        assert_eq!(t, Some(Duration::from_secs(6)));
-        assert_eq!(time_left(Duration::from_secs(2), 0.0), None);
-        assert_eq!(seconds(Duration::from_secs(125)), "2 min 05 s");
+    fn a_sequence_shows_one_bar_of_its_frames_above_the_frames_stage() {
+        let screen = Screen::default();
+        let mut progress = Progress::new();
+        let frames = progress.counter("frames", 3);
+        let stage = progress.fraction("loading");
+        show(
+            &progress.multi,
+            &progress.bars,
+            ProgressDrawTarget::term_like(Box::new(screen.clone())),
+        );
+        for k in 0..3 {
+            set_fraction(&stage, &format!("saving frame {k}"), 0.5);
+            frames.inc(1);
+        }
+        std::thread::sleep(TICK * 3);
+        let text = screen.0.lock().unwrap().clone();
+        assert!(text.contains("frames ["), "{text}");
+        assert!(text.contains("] 3/3, "), "{text}");
+        assert!(text.contains("saving frame 2 ["), "{text}");
+        assert!(text.contains(" 50%, "), "{text}");
+        progress.finish();
+    }
+
+    #[test]
+    fn nothing_is_drawn_before_the_bars_are_shown() {
+        let mut progress = Progress::new();
+        let frames = progress.counter("frames", 2);
+        frames.inc(2);
+        assert!(progress.multi.is_hidden());
+        progress.finish();
+        // On a stderr that is not a terminal (as under `cargo test`), nothing waits to show.
+        let mut progress = Progress::new();
+        progress.show_after(Duration::ZERO);
+        assert_eq!(progress.waiting.is_some(), std::io::stderr().is_terminal());
+    }
+
+    #[test]
+    fn fractions_are_clamped_to_the_bar() {
+        let mut progress = Progress::new();
+        let bar = progress.fraction("x");
+        set_fraction(&bar, "x", 2.0);
+        assert_eq!(bar.position(), FRACTION_STEPS);
+        set_fraction(&bar, "x", f64::NAN.max(-1.0));
+        assert_eq!(bar.position(), 0);
     }
 }

@@ -5,7 +5,7 @@
 //! Every bad value is a usage error (exit 2) on one line naming its flag, found before any file
 //! is read where the value alone is at fault.
 
-use phosphor_args::{CameraArgs, NormalArgs, camera_override, frame_and_apply};
+use phosphor_args::{CameraArgs, NormalArgs, camera_override, check_mesh_path, frame_and_apply};
 use phosphor_mesh::NormalOptions;
 use phosphor_scene::Scene;
 
@@ -35,6 +35,9 @@ pub fn prepare(
 ) -> Result<(Scene, u32, u32), CliError> {
     let change = camera_override(camera).map_err(CliError::Usage)?;
     normal_options(&source.normals, source.mesh.is_some())?;
+    if let Some(mesh) = &source.mesh {
+        check_mesh_path(Some("--mesh"), mesh).map_err(CliError::Usage)?;
+    }
     let mut scene = load_source(source)?;
     let (width, height) = frame_size(&scene, size);
     let aa = scene.settings.antialias;
@@ -53,6 +56,7 @@ pub fn prepare(
         });
     }
     let frame_mesh = source.scene.is_none() && source.mesh.is_some();
-    frame_and_apply(&mut scene, &change, frame_mesh, (width, height)).map_err(CliError::Usage)?;
+    frame_and_apply(&mut scene, camera, &change, frame_mesh, (width, height))
+        .map_err(CliError::Usage)?;
     Ok((scene, width, height))
 }

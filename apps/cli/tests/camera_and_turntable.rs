@@ -163,7 +163,8 @@ fn bad_camera_values_are_one_line_usage_errors_naming_the_flag() {
     let scene = d.join("ball.toml");
     std::fs::write(
         &scene,
-        "[[objects]]\nprimitive = { shape = \"sphere\", segments = 8, rings = 4 }\n",
+        "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nintensity = 1\n\
+         [[objects]]\nprimitive = { shape = \"sphere\", segments = 8, rings = 4 }\n",
     )
     .unwrap();
     let scene = scene.to_str().unwrap();

@@ -360,7 +360,7 @@ fn every_usage_error_is_one_line_naming_the_flag() {
         (&["rendr"], "error: rendr: unknown command"),
         (
             &[],
-            "error: a command is required: render, accuracy, info, bench",
+            "error: a command is required: render, accuracy, info, bench, completions, man",
         ),
     ] {
         let o = phosphor(args);

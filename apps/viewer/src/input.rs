@@ -34,6 +34,8 @@ phosphor-viewer keys:
   A                    anti-aliasing of the still picture: off, msaa4, ssaa4, msaa16, ssaa16
   T                    fast-phong: Taylor expansion (Bishop and Weimer 1986) / six-point fit
   I                    gouraud, phong: plane / incremental scan line (Gouraud 1971)
+  O                    orthographic / perspective projection
+  V                    next standard view: front, right, back, left, top, bottom, iso
   R                    reset the view
   C                    print the camera as a scene file's [camera] block (paste it into a scene)
   S                    save a screenshot (PNG) beside the scene file (current folder for --mesh)
@@ -82,6 +84,10 @@ pub enum Action {
     ToggleFastPhong,
     /// Switch gouraud and phong between plane and incremental interpolation.
     ToggleInterpolation,
+    /// Switch between perspective and orthographic projection.
+    ToggleOrtho,
+    /// Go to the next standard view (front, right, back, left, top, bottom, iso).
+    NextView,
     /// Back to the scene's camera.
     ResetView,
     /// Print the current camera as a scene file's `[camera]` block.
@@ -134,6 +140,8 @@ pub fn key_action(code: KeyCode, shift: bool) -> Option<Action> {
         KeyCode::KeyA => Some(Action::CycleAntialias),
         KeyCode::KeyT => Some(Action::ToggleFastPhong),
         KeyCode::KeyI => Some(Action::ToggleInterpolation),
+        KeyCode::KeyO => Some(Action::ToggleOrtho),
+        KeyCode::KeyV => Some(Action::NextView),
         KeyCode::KeyR => Some(Action::ResetView),
         KeyCode::KeyC => Some(Action::PrintCamera),
         KeyCode::KeyS => Some(Action::Screenshot),
@@ -282,9 +290,9 @@ impl OrbitCamera {
         self.pitch = (self.pitch + dy * ORBIT_RADIANS_PER_PIXEL).clamp(-MAX_PITCH, MAX_PITCH);
     }
 
-    /// Moves the target so that the scene follows a drag of `dx`, `dy` pixels, for a view of
-    /// `fov_y_deg` degrees over `height` pixels.
-    pub fn pan(&mut self, dx: f32, dy: f32, fov_y_deg: f32, height: u32) {
+    /// Moves the target so that the scene follows a drag of `dx`, `dy` pixels, for a view
+    /// that spans `view_height` world units at the target over `height` pixels.
+    pub fn pan(&mut self, dx: f32, dy: f32, view_height: f32, height: u32) {
         let eye = self.eye();
         let forward = (self.target - eye).try_normalize().unwrap_or(-self.back0);
         let right = forward
@@ -293,8 +301,7 @@ impl OrbitCamera {
             .unwrap_or(self.right0);
         let cam_up = right.cross(forward);
         // World units per pixel at the target's depth.
-        let half_height = self.distance * (fov_y_deg.to_radians() * 0.5).tan();
-        let per_pixel = 2.0 * half_height / height.max(1) as f32;
+        let per_pixel = view_height / height.max(1) as f32;
         if per_pixel.is_finite() {
             self.target += (-right * dx + cam_up * dy) * per_pixel;
         }
@@ -365,8 +372,10 @@ mod tests {
     #[test]
     fn pan_moves_the_target_in_the_view_plane() {
         let mut cam = OrbitCamera::new(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y);
-        cam.pan(10.0, 0.0, 45.0, 100);
+        cam.pan(10.0, 0.0, 2.0, 100);
         assert!(cam.target.x < 0.0, "drag right moves the scene right");
+        // 10 of 100 pixels over a view 2 units tall: 0.2 units.
+        assert!((cam.target.x + 0.2).abs() < 1e-5, "{}", cam.target.x);
         assert!(cam.target.z.abs() < 1e-5 && cam.target.y.abs() < 1e-5);
     }
 
@@ -400,6 +409,9 @@ mod tests {
         let listed = |key: &str| KEY_HELP.lines().any(|l| l.trim_start().starts_with(key));
         assert!(listed("C ") && listed("S "), "{KEY_HELP}");
         assert!(listed("T ") && listed("I "), "{KEY_HELP}");
+        assert!(listed("O ") && listed("V "), "{KEY_HELP}");
+        assert_eq!(key_action(KeyCode::KeyO, false), Some(Action::ToggleOrtho));
+        assert_eq!(key_action(KeyCode::KeyV, false), Some(Action::NextView));
         assert_eq!(
             key_action(KeyCode::KeyT, false),
             Some(Action::ToggleFastPhong)

@@ -5,10 +5,11 @@
 //! "File too large" and is reported like a full disk, instead of killing the process with the
 //! temporary file left behind.
 
+use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use tempfile::TempPath;
+use tempfile::{NamedTempFile, TempPath};
 
 /// Temporary files being written, removed by the signal thread if a signal comes first.
 static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
@@ -23,11 +24,20 @@ pub(crate) struct Pending {
 }
 
 impl Pending {
-    /// Starts watching `temp` (and the signals, the first time).
-    pub(crate) fn register(temp: TempPath) -> Pending {
+    /// Creates a temporary file with `make` and starts watching it. The signals are watched
+    /// first and the list stays locked while the file is made, so that a signal arriving
+    /// meanwhile waits for the file to be listed and then removes it.
+    ///
+    /// # Errors
+    /// `make`'s.
+    pub(crate) fn create(
+        make: impl FnOnce() -> std::io::Result<NamedTempFile>,
+    ) -> std::io::Result<(File, Pending)> {
         install();
-        pending().push(temp.to_path_buf());
-        Pending { temp: Some(temp) }
+        let mut list = pending();
+        let (file, temp) = make()?.into_parts();
+        list.push(temp.to_path_buf());
+        Ok((file, Pending { temp: Some(temp) }))
     }
 
     /// Renames the file to `target`. The list stays locked through the rename, so a signal

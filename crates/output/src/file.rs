@@ -159,14 +159,12 @@ pub(crate) fn write_through<S: Storage>(
         .ok_or_else(|| fail("not a file name".to_owned()))?;
     // What a writer killed by SIGKILL left here goes first (never a running writer's).
     temp::remove_stale(&dir);
-    let temp = temp::create(&dir, name).map_err(|e| {
+    let (file, pending) = cleanup::Pending::create(|| temp::create(&dir, name)).map_err(|e| {
         fail(format!(
             "cannot create a temporary file in {}: {e}",
             dir.display()
         ))
     })?;
-    let (file, temp_path) = temp.into_parts();
-    let pending = cleanup::Pending::register(temp_path);
     if let Some(meta) = &existing {
         keep_owner_and_mode(&file, meta).map_err(|e| fail(e.to_string()))?;
     }

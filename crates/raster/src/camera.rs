@@ -1,8 +1,34 @@
-//! The pinhole camera: glam's right-handed look-at view and OpenGL perspective projection.
+//! The camera: glam's right-handed look-at view and an OpenGL perspective (a pinhole, the
+//! default) or orthographic (parallel rays) projection.
 
 use glam::{Mat4, Vec3};
 
-/// A perspective camera in world space (OpenGL right-handed conventions, see `docs/conventions.md`).
+/// How a camera projects the scene onto the image.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Projection {
+    /// A pinhole at the eye: the view widens with distance by `fov_y_deg` (the default).
+    #[default]
+    Perspective,
+    /// Parallel rays along the view direction: the image spans `height` world units vertically
+    /// (and `height * aspect` across) at every depth. The lighting's viewer stays at the eye.
+    Orthographic {
+        /// World units the image spans vertically (> 0; anything else is taken as 1).
+        height: f32,
+    },
+}
+
+impl Projection {
+    /// `perspective` or `orthographic`, as scene files and messages spell it.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Projection::Perspective => "perspective",
+            Projection::Orthographic { .. } => "orthographic",
+        }
+    }
+}
+
+/// A camera in world space (OpenGL right-handed conventions, see `docs/conventions.md`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
     /// Eye position (also the viewer position `V` of the lighting model).
@@ -17,6 +43,8 @@ pub struct Camera {
     pub near: f32,
     /// Far plane distance (> near); geometry at or beyond it is not drawn.
     pub far: f32,
+    /// Perspective (the default) or orthographic; `fov_y_deg` applies to perspective only.
+    pub projection: Projection,
 }
 
 impl Camera {
@@ -30,6 +58,7 @@ impl Camera {
             fov_y_deg: 45.0,
             near: 0.1,
             far: 10.0,
+            projection: Projection::Perspective,
         }
     }
 
@@ -56,14 +85,10 @@ impl Camera {
     }
 
     /// The OpenGL projection for `aspect` = width / height, with parameters sanitized
-    /// (fov clamped to `[0.01, 179]` degrees, near >= 1e-6, far > near).
+    /// (fov clamped to `[0.01, 179]` degrees, an orthographic height that is not finite and
+    /// positive taken as 1, near >= 1e-6, far > near).
     #[must_use]
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        let fov = if self.fov_y_deg.is_finite() {
-            self.fov_y_deg.clamp(0.01, 179.0)
-        } else {
-            45.0
-        };
         let near = if self.near.is_finite() && self.near > 1e-6 {
             self.near
         } else {
@@ -79,7 +104,39 @@ impl Camera {
         } else {
             1.0
         };
-        glam::camera::rh::proj::opengl::perspective(fov.to_radians(), aspect, near, far)
+        match self.projection {
+            Projection::Perspective => {
+                let fov = if self.fov_y_deg.is_finite() {
+                    self.fov_y_deg.clamp(0.01, 179.0)
+                } else {
+                    45.0
+                };
+                glam::camera::rh::proj::opengl::perspective(fov.to_radians(), aspect, near, far)
+            }
+            Projection::Orthographic { height } => {
+                let half_h = if height.is_finite() && height > 0.0 {
+                    height * 0.5
+                } else {
+                    0.5
+                };
+                let half_w = half_h * aspect;
+                glam::camera::rh::proj::opengl::orthographic(
+                    -half_w, half_w, -half_h, half_h, near, far,
+                )
+            }
+        }
+    }
+
+    /// World units the image spans vertically at the target's depth: the orthographic
+    /// height, or what the field of view spans at the distance to the target.
+    #[must_use]
+    pub fn view_height_at_target(&self) -> f32 {
+        match self.projection {
+            Projection::Perspective => {
+                2.0 * self.eye.distance(self.target) * (self.fov_y_deg.to_radians() * 0.5).tan()
+            }
+            Projection::Orthographic { height } => height,
+        }
     }
 
     /// Projection times view: world to clip space.
@@ -120,7 +177,47 @@ mod tests {
             fov_y_deg: f32::NAN,
             near: -1.0,
             far: 0.0,
+            projection: Projection::Perspective,
         };
         assert!(cam.view_proj(0.0).is_finite());
+        for height in [0.0, -1.0, f32::NAN, f32::INFINITY] {
+            let ortho = Camera {
+                projection: Projection::Orthographic { height },
+                ..cam
+            };
+            assert!(ortho.view_proj(0.0).is_finite(), "{height}");
+        }
+    }
+
+    #[test]
+    fn perspective_is_the_default_and_its_matrix_is_glams_perspective() {
+        let cam = Camera::s1();
+        assert_eq!(cam.projection, Projection::default());
+        let expected =
+            glam::camera::rh::proj::opengl::perspective(45f32.to_radians(), 1.5, 0.1, 10.0);
+        assert_eq!(cam.projection(1.5), expected);
+    }
+
+    #[test]
+    fn orthographic_keeps_sizes_at_every_depth() {
+        let cam = Camera {
+            projection: Projection::Orthographic { height: 4.0 },
+            far: 100.0,
+            ..Camera::s1()
+        };
+        let m = cam.view_proj(2.0);
+        // A point 1 unit up maps to NDC y = 0.5 (half of the 2-unit half-height), whatever
+        // its depth; w stays 1 (no perspective division).
+        for z in [1.0f32, 0.0, -20.0, -80.0] {
+            let c = m * glam::Vec4::new(0.0, 1.0, z, 1.0);
+            assert!((c.w - 1.0).abs() < 1e-6, "w {}", c.w);
+            assert!((c.y - 0.5).abs() < 1e-5, "y {} at z {z}", c.y);
+            // Across: 1 unit right is 1 / (2 * aspect) of the half-width.
+            let r = m * glam::Vec4::new(1.0, 0.0, z, 1.0);
+            assert!((r.x - 0.25).abs() < 1e-5, "x {} at z {z}", r.x);
+        }
+        assert_eq!(cam.view_height_at_target(), 4.0);
+        let at_target = Camera::s1().view_height_at_target();
+        assert!((at_target - 6.0 * 22.5f32.to_radians().tan()).abs() < 1e-5);
     }
 }

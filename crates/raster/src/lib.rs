@@ -94,7 +94,7 @@ mod tests;
 
 pub use antialias::{Antialias, UnknownAntialias};
 pub use bump::{BumpMap, ProceduralBump};
-pub use camera::Camera;
+pub use camera::{Camera, Projection};
 pub use encode::Encoding;
 pub use framebuffer::{Framebuffer, RasterError};
 pub use render::{Frame, coverage_counts, render, render_fill_only};

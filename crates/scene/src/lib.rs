@@ -59,6 +59,7 @@ pub mod components;
 pub mod error;
 pub mod file;
 pub mod plan;
+pub mod preset;
 pub mod render;
 pub mod view;
 

@@ -29,7 +29,7 @@ use hecs::Entity;
 use phosphor_lighting::{
     Attenuation, Effects, Light, LightKind, LightSet, Material, SpecularModel,
 };
-use phosphor_raster::{Antialias, BumpMap, Camera, ShadingMode};
+use phosphor_raster::{Antialias, BumpMap, Camera, Projection, ShadingMode};
 
 use crate::components::{
     Bump, MeshInfo, MeshRef, Name, SceneMesh, Shading, ShadingChoice, Transform,
@@ -71,6 +71,22 @@ pub fn pixels_per_triangle(
     } else {
         viewport
     };
+    let px = area / (triangles as f32 * 0.5).max(1.0);
+    if px.is_finite() { px } else { 0.0 }
+}
+
+/// [`pixels_per_triangle`] for an orthographic view `view_height` world units tall: the
+/// sphere's disc keeps its size at every depth.
+#[must_use]
+pub fn pixels_per_triangle_orthographic(
+    radius: f32,
+    view_height: f32,
+    (width, height): (u32, u32),
+    triangles: usize,
+) -> f32 {
+    let viewport = width as f32 * height as f32;
+    let r_px = radius / view_height * height as f32;
+    let area = (std::f32::consts::PI * r_px * r_px).min(viewport);
     let px = area / (triangles as f32 * 0.5).max(1.0);
     if px.is_finite() { px } else { 0.0 }
 }
@@ -194,8 +210,17 @@ fn cull_decision(
     let corners = world_corners(info, model);
     let lo = corners.iter().copied().fold(Vec3::INFINITY, Vec3::min);
     let hi = corners.iter().copied().fold(Vec3::NEG_INFINITY, Vec3::max);
-    let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
-    let near_reach = camera.near * (1.0 + tan_half * tan_half * (1.0 + aspect * aspect)).sqrt();
+    // How far from the eye the near plane's corners lie: the rays start on that rectangle.
+    let near_reach = match camera.projection {
+        Projection::Perspective => {
+            let tan_half = (camera.fov_y_deg.to_radians() * 0.5).tan();
+            camera.near * (1.0 + tan_half * tan_half * (1.0 + aspect * aspect)).sqrt()
+        }
+        Projection::Orthographic { height } => {
+            let half = height * 0.5;
+            (camera.near * camera.near + half * half * (1.0 + aspect * aspect)).sqrt()
+        }
+    };
     let margin = Vec3::splat(near_reach.max(0.0) * 1.001 + 1e-6);
     let (lo, hi) = (lo - margin, hi + margin);
     let inside = camera.eye.cmpge(lo).all() && camera.eye.cmple(hi).all();
@@ -671,13 +696,21 @@ pub fn plan_frame(
                 scale,
                 eye: camera.eye,
                 bumped,
-                pixels_per_triangle: pixels_per_triangle(
-                    (sphere.center, sphere.radius),
-                    camera.eye,
-                    camera.fov_y_deg,
-                    viewport,
-                    mesh.mesh.indices.len(),
-                ),
+                pixels_per_triangle: match camera.projection {
+                    Projection::Perspective => pixels_per_triangle(
+                        (sphere.center, sphere.radius),
+                        camera.eye,
+                        camera.fov_y_deg,
+                        viewport,
+                        mesh.mesh.indices.len(),
+                    ),
+                    Projection::Orthographic { height } => pixels_per_triangle_orthographic(
+                        sphere.radius,
+                        height,
+                        viewport,
+                        mesh.mesh.indices.len(),
+                    ),
+                },
             }),
         };
         let per_pixel = matches!(

@@ -11,7 +11,7 @@
 //!
 //! ```
 //! use phosphor_scene::view::{orbit_eye, turntable_camera};
-//! use phosphor_raster::Camera;
+//! use phosphor_raster::{Camera, Projection};
 //! use glam::Vec3;
 //!
 //! let eye = orbit_eye(Vec3::ZERO, Vec3::Y, 90.0, 0.0, 3.0);
@@ -24,7 +24,7 @@
 use std::fmt;
 
 use glam::{Quat, Vec3};
-use phosphor_raster::Camera;
+use phosphor_raster::{Camera, Projection};
 use thiserror::Error;
 use toml::Table;
 
@@ -128,7 +128,7 @@ pub fn fit_distance(radius: f32, fov_y_deg: f32, aspect: f32) -> f32 {
 
 /// Near and far planes that keep a sphere of `radius` at `distance` from the eye between them,
 /// with room to spare; the near plane stays positive when the eye is inside the sphere.
-fn planes_around(distance: f32, radius: f32) -> (f32, f32) {
+pub(crate) fn planes_around(distance: f32, radius: f32) -> (f32, f32) {
     let far = (distance + radius) * 1.5;
     let near = ((distance - radius) * 0.5).max(far * 1e-4);
     (near, far)
@@ -161,6 +161,7 @@ pub fn framed_camera(
         fov_y_deg,
         near,
         far,
+        projection: Projection::Perspective,
     }
 }
 
@@ -530,6 +531,13 @@ pub fn camera_toml(camera: &Camera) -> String {
     t.insert("fov_y_deg".to_owned(), exact_number(camera.fov_y_deg));
     t.insert("near".to_owned(), exact_number(camera.near));
     t.insert("far".to_owned(), exact_number(camera.far));
+    if let Projection::Orthographic { height } = camera.projection {
+        t.insert(
+            "projection".to_owned(),
+            toml::Value::String(camera.projection.name().to_owned()),
+        );
+        t.insert("ortho_height".to_owned(), exact_number(height));
+    }
     let mut root = Table::new();
     root.insert("camera".to_owned(), toml::Value::Table(t));
     toml::to_string(&root).unwrap_or_default()
@@ -803,6 +811,11 @@ mod tests {
                 fov_y_deg: 33.333_33,
                 near: 0.017,
                 far: 123.456,
+                projection: Projection::Perspective,
+            },
+            Camera {
+                projection: Projection::Orthographic { height: 2.75 },
+                ..Camera::s1()
             },
         ];
         for cam in cameras {
@@ -823,6 +836,7 @@ mod tests {
             fov in 0.01f32..179.99,
             near in 1e-4f32..10.0,
             depth in 1.001f32..1e5,
+            ortho in proptest::prop_oneof![proptest::strategy::Just(0.0f32), 1e-3f32..1e4],
         ) {
             let cam = Camera {
                 eye: Vec3::from_array(eye),
@@ -831,6 +845,11 @@ mod tests {
                 fov_y_deg: fov,
                 near,
                 far: near * depth,
+                projection: if ortho > 0.0 {
+                    Projection::Orthographic { height: ortho }
+                } else {
+                    Projection::Perspective
+                },
             };
             let dir = cam.target - cam.eye;
             proptest::prop_assume!(dir.length() > 1e-3 && cam.far > cam.near);

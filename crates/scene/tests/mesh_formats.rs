@@ -74,7 +74,8 @@ fn scene_objects_load_every_mesh_format_by_extension() {
         .iter()
         .map(|n| format!("[[objects]]\nmesh = \"{n}\"\nnormalize = true\n"))
         .collect();
-    std::fs::write(dir.join("s.toml"), objects).unwrap();
+    let light = "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nintensity = 1\n";
+    std::fs::write(dir.join("s.toml"), format!("{light}{objects}")).unwrap();
     let scene = Scene::load(&dir.join("s.toml")).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let want = mesh_of(&scene, 0);

@@ -18,6 +18,7 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use indicatif::ProgressBar;
 use phosphor_math::glam::Vec3;
 use phosphor_raster::{FastPhongMethod, Framebuffer, Interpolation, ShadingMode};
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
@@ -30,7 +31,7 @@ use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_
 use crate::mach::{EdgeJumps, JumpKind, TriangleIds, edge_jumps, jump_map, triangle_ids};
 use crate::output::{write_image, write_rgb8};
 use crate::plot::{PlotPoint, error_vs_time};
-use crate::progress::{Progress, time_left};
+use crate::progress::{Progress, QUIET_FOR};
 
 /// Reference frames are timed only while they fit this budget (at least one is always timed):
 /// at large sizes one reference frame takes seconds, and the report must stay under a minute.
@@ -225,22 +226,14 @@ fn time_frames(
 /// colours (linear f32 RGB), and a heat-map with its labelled copy (8-bit RGB).
 const BYTES_PER_PIXEL: u64 = FRAMEBUFFER_BYTES_PER_PIXEL + 12 + 12 + 3 + 3;
 
-/// Frames drawn so far against the frames the report will draw, on the progress line.
-struct Frames<'a> {
-    progress: &'a Progress,
-    done: u32,
-    total: u32,
+/// Frames drawn so far against the frames the report will draw, on the progress bar.
+struct Frames {
+    bar: ProgressBar,
 }
 
-impl Frames<'_> {
+impl Frames {
     fn tick(&mut self) {
-        self.done += 1;
-        let f = f64::from(self.done) / f64::from(self.total.max(self.done));
-        self.progress.set(
-            &format!("measuring: frame {} of {}", self.done, self.total),
-            f,
-            time_left(self.progress.elapsed(), f),
-        );
+        self.bar.inc(1);
     }
 }
 
@@ -400,15 +393,14 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             None => Ok(()),
         }
     };
-    let progress = Progress::start("measuring");
     // One untimed and `frames` timed frames per row (fewer for a slow reference).
     let table = rows(args);
-    let rows = table.len() as u32;
+    let rows = table.len() as u64;
+    let mut progress = Progress::new();
     let mut frames = Frames {
-        progress: &progress,
-        done: 0,
-        total: rows * (1 + args.frames),
+        bar: progress.counter("measuring: frames", rows * (1 + u64::from(args.frames))),
     };
+    progress.show_after(QUIET_FOR);
 
     // The reference first: its untimed frame is what every mode is compared with.
     let reference_row = ROWS[ROWS.len() - 1];
@@ -416,7 +408,10 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     frames.tick();
     save(&fb, reference_row)?;
     let reference_frames = reference_frames(args.frames, first_time);
-    frames.total -= args.frames - reference_frames;
+    let untimed = u64::from(args.frames - reference_frames);
+    frames
+        .bar
+        .set_length(frames.bar.length().unwrap_or(0).saturating_sub(untimed));
     let reference_ms = time_frames(
         &scene,
         &mut fb,

@@ -10,6 +10,7 @@ use crate::args::InfoArgs;
 
 /// Runs `phosphor info`.
 pub fn run(args: &InfoArgs) -> Result<(), CliError> {
+    phosphor_args::check_mesh_path(None, &args.mesh).map_err(CliError::Usage)?;
     let (mesh, warnings) =
         phosphor_mesh::load_mesh_with_warnings(&args.mesh, &NormalOptions::default())
             .map_err(|e| CliError::Input(e.to_string()))?;

@@ -1,10 +1,12 @@
-//! One module per subcommand; each exposes `run(&Args) -> Result<(), CliError>`. This module
+//! One module per subcommand; each exposes `run(&Args) -> Result<(), CliError>` (`shell` holds
+//! `completions` and `man`). This module
 //! holds what they share: where the scene comes from, and the frame size and options.
 
 pub mod accuracy;
 pub mod bench;
 pub mod info;
 pub mod render;
+pub mod shell;
 
 use phosphor_raster::ShadingMode;
 use phosphor_scene::{CullChoice, Scene, ShadingChoice};

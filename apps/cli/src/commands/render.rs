@@ -1,6 +1,7 @@
 //! `phosphor render`: frames of a scene to PNG or EXR files, each written whole or not at all,
 //! or one PNG to standard output.
 
+use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
 use phosphor_raster::{Antialias, Encoding};
@@ -10,10 +11,11 @@ use phosphor_scene::{FrameOptions, render_frame};
 use super::{framebuffer, shading_choice, size_field};
 use crate::CliError;
 use crate::args::{EncodingArg, RenderArgs};
+use crate::folders::{make_missing, missing_folders, remove_empty};
 use crate::frames::{Output, frames_to_render, output_for};
 use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_pixel, threads};
 use crate::output::{check_output, format_of, is_stdout, write_image, write_png_to_stdout};
-use crate::progress::{Progress, time_left};
+use crate::progress::{Progress, QUIET_FOR, set_fraction};
 use crate::view::prepare;
 
 /// Milliseconds with one decimal, for the closing line.
@@ -27,9 +29,17 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     // The frames and the output are checked before any work, so that a usage error, a refusal
     // or a bad extension is immediate.
     let frames = frames_to_render(args.turntable, args.frames)?;
-    let output = output_for(args.output.as_deref(), frames.len(), args.plan)?;
+    let stdout_is_terminal = std::io::stdout().is_terminal();
+    let output = output_for(
+        args.output.as_deref(),
+        frames.len(),
+        args.plan,
+        stdout_is_terminal,
+    )?;
     if let Output::Files(pattern) = &output {
-        if pattern.is_numbered() {
+        // A missing folder is made only when the frame is written (crate::folders).
+        let first = pattern.path(frames.start);
+        if pattern.is_numbered() || !missing_folders(&first)?.is_empty() {
             format_of(pattern.given())?;
         }
         // The first file stands for the folder: missing, unwritable or not a real one is
@@ -42,7 +52,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             )));
         }
     }
-    let progress = Progress::start("loading (stage 1 of 3)");
+    let mut progress = Progress::new();
+    let sequence = (frames.len() > 1).then(|| progress.counter("frames", frames.len() as u64));
+    let stage = progress.fraction("loading (stage 1 of 3)");
+    progress.show_after(QUIET_FOR);
     let (mut scene, width, height) = prepare(&args.source, &args.camera, args.size)?;
     let load_time = started.elapsed();
     // The PNG and EXR encoders stream rows and blocks: the framebuffer is the image's cost.
@@ -70,11 +83,8 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let mut fb = framebuffer(width, height)?;
     let alloc_time = alloc_start.elapsed();
     let home = scene.camera();
-    let count = frames.len() as f64;
     for (index, frame) in frames.enumerate() {
         let frame_start = Instant::now();
-        // Each frame is one third of its share: rendering, then saving.
-        let base = index as f64 / count;
         let what = match args.turntable {
             Some(n) => {
                 scene.set_camera(turntable_camera(&home, frame, n));
@@ -82,10 +92,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             }
             None => String::new(),
         };
-        progress.set(
+        // Each stage is a third of the frame's bar: loading (or nothing), rendering, saving.
+        stage.reset();
+        set_fraction(
+            &stage,
             &format!("rendering {what}{width}x{height} (stage 2 of 3)"),
-            (base + 1.0 / (3.0 * count)).min(1.0),
-            time_left(started.elapsed(), base),
+            1.0 / 3.0,
         );
         let render_start = Instant::now();
         let report = render_frame(&scene, &mut fb, &opts);
@@ -94,19 +106,20 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             render_time += alloc_time;
         }
         if args.plan {
-            progress.clear_line();
-            say!("{}", report.plan.to_string().trim_end());
-            say!(
-                "plan time: {:.3} ms, raster time: {:.3} ms",
-                report.plan_time.as_secs_f64() * 1e3,
-                report.raster_time.as_secs_f64() * 1e3
-            );
-            let aa = report.stats.antialias;
-            say!(
-                "anti-aliasing: {aa}, {} sample{} per pixel",
-                aa.samples(),
-                if aa.samples() == 1 { "" } else { "s" }
-            );
+            progress.suspend(|| {
+                say!("{}", report.plan.to_string().trim_end());
+                say!(
+                    "plan time: {:.3} ms, raster time: {:.3} ms",
+                    report.plan_time.as_secs_f64() * 1e3,
+                    report.raster_time.as_secs_f64() * 1e3
+                );
+                let aa = report.stats.antialias;
+                say!(
+                    "anti-aliasing: {aa}, {} sample{} per pixel",
+                    aa.samples(),
+                    if aa.samples() == 1 { "" } else { "s" }
+                );
+            });
         }
         let save_start = Instant::now();
         let out = match &output {
@@ -118,21 +131,31 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             }
             Output::Files(pattern) => {
                 let out = pattern.path(frame);
-                if pattern.is_numbered() {
-                    check_output(&out, args.force)?;
-                }
+                let made = make_missing(&out)?;
                 let label = format!("saving {} (stage 3 of 3)", out.display());
-                write_image(&fb, &out, encoding, args.force, &mut |f| {
-                    let done = base + (2.0 + f) / (3.0 * count);
-                    progress.set(&label, done, time_left(started.elapsed(), done));
-                })?;
+                let checked = if pattern.is_numbered() || !made.is_empty() {
+                    check_output(&out, args.force).map(|_| ())
+                } else {
+                    Ok(())
+                };
+                let written = checked.and_then(|()| {
+                    write_image(&fb, &out, encoding, args.force, &mut |f| {
+                        set_fraction(&stage, &label, (2.0 + f) / 3.0);
+                    })
+                });
+                if let Err(e) = written {
+                    remove_empty(&made);
+                    return Err(e);
+                }
                 Some(out)
             }
         };
+        if let Some(bar) = &sequence {
+            bar.inc(1);
+        }
         let save_time = save_start.elapsed();
         let s = report.stats;
         if let Some(out) = out {
-            progress.clear_line();
             let total = if index == 0 {
                 started.elapsed()
             } else {
@@ -173,7 +196,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             if is_stdout(&out) {
                 phosphor_output::term::tell(&line);
             } else {
-                say!("{line}");
+                progress.suspend(|| say!("{line}"));
             }
         }
         if s.bump_ignored > 0 && index == 0 {

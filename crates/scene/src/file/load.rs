@@ -92,7 +92,7 @@ pub fn parse_scene(
         scene.settings = render_settings(&r)?;
     }
     let camera = match root.table("camera")? {
-        Some(c) => camera(&c)?,
+        Some(c) => super::camera::camera(&c)?,
         None => Camera::s1(),
     };
     scene.world.spawn((camera,));
@@ -140,6 +140,16 @@ pub fn parse_scene(
         )?;
     }
     root.finish(TOP)?;
+    if scene.light_count() == 0 && scene.world.query::<&MeshRef>().iter().next().is_some() {
+        scene.warnings.push(format!(
+            "warning: {file}: lights: none, so only the ambient term lights the objects{}",
+            if scene.ambient == Vec3::ZERO {
+                " and the picture is black (add [[lights]] or [ambient])"
+            } else {
+                " (add [[lights]] for shading)"
+            }
+        ));
+    }
     Ok(scene)
 }
 
@@ -250,45 +260,6 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
         "interpolation",
     ])?;
     Ok(s)
-}
-
-fn camera(c: &Fields<'_>) -> Result<Camera, SceneError> {
-    let s1 = Camera::s1();
-    let cam = Camera {
-        eye: c.vec3("eye")?.unwrap_or(s1.eye),
-        target: c.vec3("target")?.unwrap_or(s1.target),
-        up: c.vec3("up")?.unwrap_or(s1.up),
-        fov_y_deg: c.f32("fov_y_deg")?.unwrap_or(s1.fov_y_deg),
-        near: c.f32("near")?.unwrap_or(s1.near),
-        far: c.f32("far")?.unwrap_or(s1.far),
-    };
-    c.finish(&["eye", "target", "up", "fov_y_deg", "near", "far"])?;
-    if !(cam.fov_y_deg > 0.0 && cam.fov_y_deg < 180.0) {
-        return Err(c.error(
-            "fov_y_deg",
-            format!(
-                "must be between 0 and 180 (exclusive), got {}",
-                cam.fov_y_deg
-            ),
-        ));
-    }
-    if cam.near <= 0.0 {
-        return Err(c.error("near", format!("must be > 0, got {}", cam.near)));
-    }
-    if cam.far <= cam.near {
-        return Err(c.error(
-            "far",
-            format!("must be greater than near ({}), got {}", cam.near, cam.far),
-        ));
-    }
-    let dir = cam.target - cam.eye;
-    if dir.length_squared() < 1e-12 {
-        return Err(c.error("target", "must differ from eye"));
-    }
-    if dir.normalize().cross(cam.up).length_squared() < 1e-10 {
-        return Err(c.error("up", "must not be parallel to the view direction"));
-    }
-    Ok(cam)
 }
 
 fn attenuation(a: &Fields<'_>) -> Result<Attenuation, SceneError> {

@@ -6,7 +6,7 @@ use std::path::Path;
 use glam::Vec3;
 use phosphor_lighting::{Attenuation, Fresnel, Light, LightKind, Material, SpecularModel};
 use phosphor_mesh::{NormalSource, Weighting};
-use phosphor_raster::{Camera, Encoding, ProceduralBump};
+use phosphor_raster::{Camera, Encoding, ProceduralBump, Projection};
 use toml::{Table, Value};
 
 use crate::components::{
@@ -75,6 +75,10 @@ fn camera_table(c: &Camera) -> Table {
     t.insert("fov_y_deg".into(), f(c.fov_y_deg));
     t.insert("near".into(), f(c.near));
     t.insert("far".into(), f(c.far));
+    if let Projection::Orthographic { height } = c.projection {
+        t.insert("projection".into(), s(c.projection.name()));
+        t.insert("ortho_height".into(), f(height));
+    }
     t
 }
 

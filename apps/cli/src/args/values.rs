@@ -1,0 +1,202 @@
+//! The values flags take: shading modes, culling, variants, SIMD level, encoding, sizes.
+
+use clap::{Args, ValueEnum};
+use phosphor_args::RENDERING_HEADING;
+
+/// Largest accepted image side, in pixels (a 16k x 16k f32 framebuffer is already 3 GiB).
+pub const MAX_SIDE: u32 = 16_384;
+
+/// Back-face culling on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CullArg {
+    /// Only closed, outward-oriented meshes seen from outside (the same picture).
+    Auto,
+    /// Every object (open meshes show holes where their back is seen).
+    Always,
+    /// No object: both sides of every triangle are drawn.
+    Never,
+}
+
+/// A shading choice on the command line: one of the modes, or `auto`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ModeArg {
+    /// Once per triangle.
+    Flat,
+    /// Per vertex, intensities interpolated.
+    Gouraud,
+    /// Per pixel with interpolated normals.
+    Phong,
+    /// A quadratic per triangle stepped by forward differences (see --fast-phong); else phong.
+    FastPhong,
+    /// Ground truth: per pixel in f64.
+    Reference,
+    /// Per object, the cheapest mode that is good enough.
+    Auto,
+}
+
+/// Bench's shading choice: one mode, or all of them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BenchMode {
+    /// Once per triangle.
+    Flat,
+    /// Per vertex, intensities interpolated.
+    Gouraud,
+    /// Per pixel with interpolated normals.
+    Phong,
+    /// A quadratic per triangle stepped by forward differences (see --fast-phong); else phong.
+    FastPhong,
+    /// Ground truth: per pixel in f64.
+    Reference,
+    /// Per object, the cheapest mode that is good enough.
+    Auto,
+    /// Every mode above, one line each.
+    All,
+}
+
+/// How fast-phong makes its quadratic (`--fast-phong`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FastPhongArg {
+    /// Bishop and Weimer 1986: the diffuse and specular terms expanded in a Taylor series to
+    /// second degree about each triangle's centroid.
+    Taylor,
+    /// A quadratic through the exact terms at the vertices and edge midpoints of each
+    /// triangle of 128 pixels or more.
+    Fit,
+}
+
+/// How gouraud and phong interpolate (`--interpolation`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum InterpolationArg {
+    /// Planes evaluated afresh at each span start (no drift down a tall triangle).
+    Plane,
+    /// Gouraud 1971's incremental scan line: values stepped per scan line and per pixel in f32.
+    Incremental,
+}
+
+/// The vector width of per-pixel lighting (`--simd`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SimdArg {
+    /// The widest this CPU runs.
+    Auto,
+    /// Four lanes (SSE2 on x86-64).
+    Baseline,
+    /// Eight lanes with AVX2 (an error on a CPU without it).
+    Avx2,
+}
+
+/// The SIMD level of render and bench.
+#[derive(Debug, Args, Clone, Copy, Default)]
+pub struct SimdArgs {
+    /// The vector width of per-pixel lighting (default auto: the widest this CPU runs). The
+    /// picture is the same at every level; this compares their speed.
+    #[arg(long, help_heading = RENDERING_HEADING, value_enum, value_name = "auto|baseline|avx2")]
+    pub simd: Option<SimdArg>,
+}
+
+impl SimdArgs {
+    /// The SIMD level asked for; `--simd avx2` on a CPU without AVX2 is a usage error.
+    ///
+    /// # Errors
+    /// A level this CPU does not run.
+    pub fn simd(&self) -> Result<phosphor_raster::SimdLevel, String> {
+        let level = match self.simd {
+            None | Some(SimdArg::Auto) => phosphor_raster::SimdLevel::Auto,
+            Some(SimdArg::Baseline) => phosphor_raster::SimdLevel::Baseline,
+            Some(SimdArg::Avx2) => phosphor_raster::SimdLevel::Avx2,
+        };
+        if level.available() {
+            Ok(level)
+        } else {
+            Err(format!(
+                "--simd {level}: this CPU does not run it (use auto or baseline)"
+            ))
+        }
+    }
+}
+
+/// The variant flags of the approximate modes, shared by render, bench and accuracy.
+#[derive(Debug, Args, Clone, Copy, Default)]
+pub struct VariantArgs {
+    /// How fast-phong makes its per-triangle quadratic (overrides the scene file; default
+    /// fit): `fit` = a six-point fit, `taylor` = Bishop and Weimer 1986's Taylor expansion.
+    #[arg(long, help_heading = RENDERING_HEADING, value_enum, value_name = "fit|taylor")]
+    pub fast_phong: Option<FastPhongArg>,
+    /// How gouraud and phong interpolate across a triangle (overrides the scene file; default
+    /// plane): `plane` = evaluated at each span start, `incremental` = Gouraud 1971's
+    /// per-scan-line increments in f32.
+    #[arg(long, help_heading = RENDERING_HEADING, value_enum, value_name = "plane|incremental")]
+    pub interpolation: Option<InterpolationArg>,
+}
+
+impl VariantArgs {
+    /// The fast-Phong method asked for, if any.
+    #[must_use]
+    pub fn fast_phong(&self) -> Option<phosphor_raster::FastPhongMethod> {
+        self.fast_phong.map(|m| match m {
+            FastPhongArg::Taylor => phosphor_raster::FastPhongMethod::Taylor,
+            FastPhongArg::Fit => phosphor_raster::FastPhongMethod::Fit,
+        })
+    }
+
+    /// The interpolation asked for, if any.
+    #[must_use]
+    pub fn interpolation(&self) -> Option<phosphor_raster::Interpolation> {
+        self.interpolation.map(|m| match m {
+            InterpolationArg::Plane => phosphor_raster::Interpolation::Plane,
+            InterpolationArg::Incremental => phosphor_raster::Interpolation::Incremental,
+        })
+    }
+}
+
+/// PNG encoding of the linear framebuffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EncodingArg {
+    /// sRGB transfer curve (the default for scene files).
+    Srgb,
+    /// Values stored as they are (the default for S1).
+    Linear,
+}
+
+/// An image size in pixels, `WxH` on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Size {
+    /// Width in pixels, 1..=[`MAX_SIDE`].
+    pub width: u32,
+    /// Height in pixels, 1..=[`MAX_SIDE`].
+    pub height: u32,
+}
+
+/// Parses `WxH` (e.g. `640x480`); both sides whole numbers in 1..=[`MAX_SIDE`].
+pub fn parse_size(text: &str) -> Result<Size, String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH, e.g. 640x480, got `{text}`"))?;
+    let side = |s: &str| -> Result<u32, String> {
+        let v: u32 = s
+            .parse()
+            .map_err(|_| format!("expected WxH with whole numbers, e.g. 640x480, got `{text}`"))?;
+        if v == 0 || v > MAX_SIDE {
+            return Err(format!(
+                "each side must be between 1 and {MAX_SIDE}, got `{text}`"
+            ));
+        }
+        Ok(v)
+    };
+    Ok(Size {
+        width: side(w)?,
+        height: side(h)?,
+    })
+}
+
+/// The shells `phosphor completions` writes for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ShellArg {
+    /// Bash.
+    Bash,
+    /// Zsh.
+    Zsh,
+    /// Fish.
+    Fish,
+    /// PowerShell.
+    Powershell,
+}

@@ -1,0 +1,363 @@
+//! The scene renderer behind the window: the scene, the orbit camera, the toggles, and the
+//! framebuffer reused from frame to frame; what is drawn and how the title describes it. The
+//! keys' actions are applied in `actions.rs`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use phosphor_math::glam::Vec3;
+use phosphor_output::image::{Transfer, write_png};
+use phosphor_raster::encode::Encoder;
+use phosphor_raster::{
+    Antialias, Camera, Encoding, FastPhongMethod, Framebuffer, Interpolation, Projection,
+    ShadingMode,
+};
+use phosphor_scene::preset::ViewPreset;
+use phosphor_scene::view::camera_toml;
+use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
+
+use crate::input::{Action, OrbitCamera};
+use crate::window::View;
+
+/// Bytes per pixel of a window's frame: the framebuffer (RGB f32 and depth) and the 32-bit
+/// pixels presented.
+const WINDOW_BYTES_PER_PIXEL: u64 = 16 + 4;
+
+/// Frames drawn while the user moves use the still picture's anti-aliasing only if it takes
+/// at most this long (60 frames a second); otherwise they are drawn with one sample per pixel
+/// and the still picture follows when input stops.
+pub const MOVING_FRAME_MS: f64 = 1000.0 / 60.0;
+
+/// The still picture's anti-aliasing when neither `--aa` nor the scene file sets one.
+pub const DEFAULT_STILL_ANTIALIAS: Antialias = Antialias::Msaa4;
+
+/// Bytes per sample of an anti-aliased frame's sample image (RGB f32 and depth).
+const SAMPLE_BYTES: u64 = 16;
+
+/// Bytes per pixel of a window's frame drawn with `aa`.
+pub fn bytes_per_pixel(aa: Antialias) -> u64 {
+    let samples = if aa == Antialias::Off {
+        0
+    } else {
+        u64::from(aa.samples())
+    };
+    WINDOW_BYTES_PER_PIXEL + SAMPLE_BYTES * samples
+}
+
+/// The modes behind keys 1..5, in key order.
+pub const KEY_MODES: [ShadingMode; 5] = [
+    ShadingMode::Flat,
+    ShadingMode::Gouraud,
+    ShadingMode::Phong,
+    ShadingMode::FastPhong,
+    ShadingMode::Reference,
+];
+
+/// The scene renderer behind the window: the scene, the orbit camera, the toggles, and the
+/// framebuffer reused from frame to frame.
+pub struct Viewer {
+    pub scene: Scene,
+    /// The scene file and the mesh named on the command line, to name screenshots after.
+    pub scene_file: Option<PathBuf>,
+    pub mesh_file: Option<PathBuf>,
+    /// The scene's own camera, for `R`.
+    pub home: Camera,
+    /// The up direction of the view: the scene camera's, or a standard view's (`V`).
+    pub view_up: Vec3,
+    /// Orthographic (`O`): the view's height at the orbit's first distance (it follows the
+    /// zoom); `None` for perspective.
+    pub ortho: Option<f32>,
+    /// The standard view last chosen with `V`.
+    pub preset: Option<ViewPreset>,
+    /// The window size asked for, until a frame gives the size drawn.
+    pub window_size: (u32, u32),
+    pub orbit: OrbitCamera,
+    pub shading: Option<ShadingChoice>,
+    pub bump: bool,
+    pub perspective_correct: bool,
+    /// Anti-aliasing of the still picture (`--aa`, key A).
+    pub antialias: Antialias,
+    /// Whether frames drawn while the user moves may use `antialias` too: the last frame drawn
+    /// with it took at most [`MOVING_FRAME_MS`].
+    pub antialias_keeps_up: bool,
+    /// The next frame is the refined still picture.
+    pub refine_next: bool,
+    /// `--frames` mode: every frame uses `antialias`, none is refined.
+    pub fixed_frames: bool,
+    /// The anti-aliasing the last frame was drawn with.
+    pub last_antialias: Antialias,
+    pub fast_phong: FastPhongMethod,
+    pub interpolation: Interpolation,
+    pub fb: Option<Framebuffer>,
+    /// `--force` for the screenshot.
+    pub force: bool,
+    /// Milliseconds of the last frame (plan + raster), and a smoothed frames-per-second.
+    pub last_ms: f64,
+    pub fps: f64,
+    pub triangles: u64,
+    pub frames: u32,
+    pub total_ms: f64,
+}
+
+impl Viewer {
+    pub fn new(scene: Scene) -> Viewer {
+        let home = scene.camera();
+        Viewer {
+            scene_file: None,
+            mesh_file: None,
+            orbit: OrbitCamera::new(home.eye, home.target, home.up),
+            view_up: home.up,
+            ortho: match home.projection {
+                Projection::Perspective => None,
+                Projection::Orthographic { height } => Some(height),
+            },
+            preset: None,
+            window_size: (960, 540),
+            perspective_correct: scene.settings.perspective_correct,
+            antialias: scene.settings.antialias,
+            antialias_keeps_up: false,
+            refine_next: false,
+            fixed_frames: false,
+            last_antialias: Antialias::Off,
+            fast_phong: scene.settings.fast_phong,
+            interpolation: scene.settings.interpolation,
+            scene,
+            home,
+            shading: None,
+            bump: true,
+            fb: None,
+            force: false,
+            last_ms: 0.0,
+            fps: 0.0,
+            triangles: 0,
+            frames: 0,
+            total_ms: 0.0,
+        }
+    }
+
+    /// The anti-aliasing of the next frame: the still picture's when it is refined, in
+    /// `--frames` mode, or when frames with it keep up with [`MOVING_FRAME_MS`]; else none.
+    pub fn frame_antialias(&self) -> Antialias {
+        if self.fixed_frames || self.refine_next || self.antialias_keeps_up {
+            self.antialias
+        } else {
+            Antialias::Off
+        }
+    }
+
+    /// The orbiting camera; near and far follow the zoom so the scene is never cut away, and
+    /// so does an orthographic view's height.
+    pub fn camera(&self) -> Camera {
+        let zoom = self.orbit.zoom_ratio();
+        Camera {
+            eye: self.orbit.eye(),
+            target: self.orbit.target,
+            up: self.view_up,
+            near: self.home.near * zoom.min(1.0),
+            far: self.home.far * zoom.max(1.0),
+            projection: match self.ortho {
+                None => Projection::Perspective,
+                Some(height) => Projection::Orthographic {
+                    height: height * zoom,
+                },
+            },
+            ..self.home
+        }
+    }
+
+    /// The size of the frames drawn: the last frame's, else the window's.
+    pub fn frame_size(&self) -> (u32, u32) {
+        self.fb
+            .as_ref()
+            .map_or(self.window_size, |fb| (fb.width(), fb.height()))
+    }
+
+    /// The current camera as a scene file's `[camera]` block (what the `C` key prints).
+    pub fn camera_block(&self) -> String {
+        camera_toml(&self.camera())
+    }
+}
+
+impl View for Viewer {
+    fn draw(&mut self, width: u32, height: u32, out: &mut [u32]) -> Result<(), String> {
+        let start = Instant::now();
+        let fb = match self.fb.take() {
+            Some(fb) if fb.width() == width && fb.height() == height => fb,
+            _ => Framebuffer::new(width, height).map_err(|e| e.to_string())?,
+        };
+        let mut fb = fb;
+        let camera = self.camera();
+        self.scene.set_camera(camera);
+        let opts = FrameOptions {
+            shading: self.shading,
+            bump: self.bump,
+            perspective_correct: Some(self.perspective_correct),
+            threads: 0,
+            antialias: Some(self.frame_antialias()),
+            fast_phong: Some(self.fast_phong),
+            interpolation: Some(self.interpolation),
+            ..FrameOptions::default()
+        };
+        let report = render_frame(&self.scene, &mut fb, &opts);
+        fb.write_0rgb_threads(out, 0);
+        self.fb = Some(fb);
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        self.last_ms = ms;
+        let fps = 1e3 / ms.max(1e-3);
+        self.fps = if self.frames == 0 {
+            fps
+        } else {
+            0.8 * self.fps + 0.2 * fps
+        };
+        self.triangles = report.stats.triangles_drawn;
+        let used = report.stats.antialias;
+        if used == self.antialias && used != Antialias::Off {
+            self.antialias_keeps_up = ms <= MOVING_FRAME_MS;
+        }
+        self.last_antialias = used;
+        self.refine_next = false;
+        self.frames += 1;
+        self.total_ms += ms;
+        Ok(())
+    }
+
+    fn title(&self) -> String {
+        let mode = self
+            .shading
+            .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
+        format!(
+            "Phosphor | {mode}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            if self.last_antialias == Antialias::Off {
+                String::new()
+            } else {
+                format!(" | {}", self.last_antialias)
+            },
+            if self.ortho.is_some() {
+                " | orthographic"
+            } else {
+                ""
+            },
+            if self.bump { "" } else { " | bump off" },
+            if self.perspective_correct {
+                ""
+            } else {
+                " | screen-space"
+            },
+            // The methods are named only where they differ from the defaults.
+            if self.fast_phong == FastPhongMethod::default() {
+                String::new()
+            } else {
+                format!(" | fast-phong {}", self.fast_phong)
+            },
+            if self.interpolation == Interpolation::default() {
+                String::new()
+            } else {
+                format!(" | {} interpolation", self.interpolation)
+            },
+            self.last_ms,
+            self.fps,
+            self.triangles
+        )
+    }
+
+    fn apply(&mut self, action: Action, height: u32) -> bool {
+        self.act(action, height)
+    }
+
+    fn wants_refinement(&self) -> bool {
+        !self.fixed_frames && self.last_antialias != self.antialias
+    }
+
+    fn refine(&mut self) {
+        self.refine_next = true;
+    }
+
+    fn save_screenshot(&self, path: &Path) -> Result<(), String> {
+        let fb = self.fb.as_ref().ok_or("no frame drawn yet")?;
+        // The window shows sRGB (Framebuffer::write_0rgb); the screenshot holds the same
+        // bytes, tagged sRGB so that image viewers show what the window showed.
+        let encoder = Encoder::new(Encoding::Srgb);
+        let width = fb.width() as usize;
+        let colour = fb.color();
+        let mut row = |y: u32, line: &mut [u8]| {
+            let start = y as usize * width;
+            for (px, c) in line.chunks_exact_mut(3).zip(&colour[start..start + width]) {
+                px.copy_from_slice(&[
+                    encoder.encode(c.x),
+                    encoder.encode(c.y),
+                    encoder.encode(c.z),
+                ]);
+            }
+        };
+        let size = (fb.width(), fb.height());
+        write_png(
+            path,
+            self.force,
+            size,
+            Transfer::Srgb,
+            &mut row,
+            &mut |_| {},
+        )
+        .map_err(|e| {
+            if e.forceable() {
+                format!("{e} (--force writes it anyway)")
+            } else {
+                e.to_string()
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+
+    #[test]
+    fn the_printed_camera_block_loads_back_to_the_view_on_screen() {
+        let mut viewer = Viewer::new(Scene::default_scene().unwrap());
+        viewer.apply(
+            Action::Orbit {
+                dx: 37.0,
+                dy: -12.0,
+            },
+            540,
+        );
+        viewer.apply(Action::Zoom(2.5), 540);
+        viewer.apply(Action::Pan { dx: 5.0, dy: 3.0 }, 540);
+        let shown = viewer.camera();
+        assert_ne!(shown, viewer.home, "the view moved");
+        let block = viewer.camera_block();
+        let loaded = Scene::parse(&block, "pasted.toml").unwrap();
+        assert_eq!(loaded.camera(), shown, "{block}");
+    }
+
+    #[test]
+    fn moving_frames_skip_slow_anti_aliasing_and_the_still_picture_gets_it() {
+        let mut viewer = Viewer::new(Scene::default_scene().unwrap());
+        viewer.antialias = Antialias::Ssaa4;
+        let mut out = vec![0u32; 64 * 36];
+        // First frame: not yet known to keep up, drawn with one sample; refinement wanted.
+        viewer.draw(64, 36, &mut out).unwrap();
+        assert_eq!(viewer.last_antialias, Antialias::Off);
+        assert!(viewer.wants_refinement());
+        // The refined frame uses the still picture's samples, and then nothing is wanted.
+        viewer.refine();
+        viewer.draw(64, 36, &mut out).unwrap();
+        assert_eq!(viewer.last_antialias, Antialias::Ssaa4);
+        assert!(!viewer.wants_refinement());
+        // Whether it kept up depends on the machine: both outcomes, set by hand.
+        viewer.antialias_keeps_up = true;
+        viewer.apply(Action::Orbit { dx: 5.0, dy: 0.0 }, 36);
+        assert_eq!(viewer.frame_antialias(), Antialias::Ssaa4);
+        viewer.antialias_keeps_up = false;
+        assert_eq!(viewer.frame_antialias(), Antialias::Off);
+        // `--frames` mode draws every frame as asked and never refines.
+        viewer.fixed_frames = true;
+        assert_eq!(viewer.frame_antialias(), Antialias::Ssaa4);
+        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.antialias = Antialias::Ssaa16;
+        assert!(!viewer.wants_refinement());
+    }
+}
