@@ -206,6 +206,7 @@ fn phosphor_frame(s: &Scene, fb: &mut Framebuffer, mode: &str, threads: usize) {
             ShadingMode::Phong
         },
         bump: None,
+        texture: None,
         cull_backfaces: false,
     };
     let opts = RenderOptions {

@@ -80,6 +80,7 @@ impl Scene {
             effects: self.effects,
             mode,
             bump: None,
+            texture: None,
             cull_backfaces: false,
         }
     }

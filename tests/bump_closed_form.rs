@@ -246,6 +246,7 @@ fn rendered_bumped_plane_matches_the_closed_form_shading() {
         effects: Effects::ALL,
         mode,
         bump: Some(&map),
+        texture: None,
         cull_backfaces: false,
     };
     // Where the pixel centre's ray from the S1 eye (0, 0, 3), looking down -Z, meets z = 0.

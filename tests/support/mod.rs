@@ -111,6 +111,7 @@ pub fn draw<'a>(mesh: &'a TriMesh, setup: &'a Setup, mode: ShadingMode) -> DrawI
         effects: Effects::ALL,
         mode,
         bump: None,
+        texture: None,
         cull_backfaces: false,
     }
 }

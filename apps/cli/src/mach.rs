@@ -138,6 +138,7 @@ pub fn triangle_ids(scene: &Scene, width: u32, height: u32, opts: &FrameOptions)
             effects: Effects::DIFFUSE,
             mode: ShadingMode::Gouraud,
             bump: None,
+            texture: None,
             // The same triangles as the picture's draw: culling hides no visible pixel.
             cull_backfaces: d.cull_backfaces,
         })

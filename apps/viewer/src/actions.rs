@@ -63,6 +63,10 @@ impl Viewer {
                 self.bump = !self.bump;
                 true
             }
+            Action::ToggleMaps => {
+                self.textures = !self.textures;
+                true
+            }
             Action::TogglePerspective => {
                 self.perspective_correct = !self.perspective_correct;
                 true

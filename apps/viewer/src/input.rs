@@ -30,6 +30,7 @@ phosphor-viewer keys:
   1 flat  2 gouraud  3 phong  4 fast-phong  5 reference  0 auto (the scene's own shading)
   F1..F8 (or shift+1..8)  toggle light 1..8 (in scene-file order)
   B                    toggle bump mapping
+  M                    toggle colour maps (textures)
   P                    toggle perspective-correct interpolation
   A                    anti-aliasing of the still picture: off, msaa4, ssaa4, msaa16, ssaa16
   T                    fast-phong: Taylor expansion (Bishop and Weimer 1986) / six-point fit
@@ -76,6 +77,8 @@ pub enum Action {
     ToggleLight(usize),
     /// Toggle bump mapping.
     ToggleBump,
+    /// Toggle colour maps.
+    ToggleMaps,
     /// Toggle perspective-correct interpolation.
     TogglePerspective,
     /// Switch anti-aliasing to the next choice (off, msaa4, ssaa4, msaa16, ssaa16).
@@ -136,6 +139,7 @@ pub fn key_action(code: KeyCode, shift: bool) -> Option<Action> {
         KeyCode::F7 => Some(Action::ToggleLight(6)),
         KeyCode::F8 => Some(Action::ToggleLight(7)),
         KeyCode::KeyB => Some(Action::ToggleBump),
+        KeyCode::KeyM => Some(Action::ToggleMaps),
         KeyCode::KeyP => Some(Action::TogglePerspective),
         KeyCode::KeyA => Some(Action::CycleAntialias),
         KeyCode::KeyT => Some(Action::ToggleFastPhong),
@@ -396,6 +400,7 @@ mod tests {
         assert_eq!(key_action(KeyCode::F8, false), Some(Action::ToggleLight(7)));
         assert_eq!(key_action(KeyCode::Digit9, false), None);
         assert_eq!(key_action(KeyCode::KeyB, false), Some(Action::ToggleBump));
+        assert_eq!(key_action(KeyCode::KeyM, false), Some(Action::ToggleMaps));
         assert_eq!(
             key_action(KeyCode::KeyA, false),
             Some(Action::CycleAntialias)

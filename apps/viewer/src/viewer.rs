@@ -74,6 +74,8 @@ pub struct Viewer {
     pub orbit: OrbitCamera,
     pub shading: Option<ShadingChoice>,
     pub bump: bool,
+    /// Colour maps on.
+    pub textures: bool,
     pub perspective_correct: bool,
     /// Anti-aliasing of the still picture (`--aa`, key A).
     pub antialias: Antialias,
@@ -125,6 +127,7 @@ impl Viewer {
             home,
             shading: None,
             bump: true,
+            textures: true,
             fb: None,
             force: false,
             last_ms: 0.0,
@@ -191,6 +194,7 @@ impl View for Viewer {
         let opts = FrameOptions {
             shading: self.shading,
             bump: self.bump,
+            textures: self.textures,
             perspective_correct: Some(self.perspective_correct),
             threads: 0,
             antialias: Some(self.frame_antialias()),
@@ -226,7 +230,7 @@ impl View for Viewer {
             .shading
             .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
         format!(
-            "Phosphor | {mode}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            "Phosphor | {mode}{}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
             if self.last_antialias == Antialias::Off {
                 String::new()
             } else {
@@ -238,6 +242,7 @@ impl View for Viewer {
                 ""
             },
             if self.bump { "" } else { " | bump off" },
+            if self.textures { "" } else { " | maps off" },
             if self.perspective_correct {
                 ""
             } else {

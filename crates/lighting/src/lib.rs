@@ -163,7 +163,7 @@ pub use lightset::{LightSet, PreparedDirectional, PreparedPoint, PreparedSpot, e
 pub use lobe::{MIRROR_COS_TOLERANCE, specular_lobe, specular_lobe_f64};
 pub use material::{Material, SpecularModel};
 pub use pow_table::PowTable;
-pub use reference::shade_reference;
+pub use reference::{shade_reference, shade_reference_tinted};
 pub use shade::{ShadeTerms, finite_intensity, shade, shade_canonical, shade_dyn, shade_split};
 #[cfg(target_arch = "x86_64")]
 pub use shade_wide::Vec3x8;

@@ -14,8 +14,23 @@ use crate::material::{Material, SpecularModel};
 /// in `[0, f64::MAX]`, NaN mapped to 0.
 #[must_use]
 pub fn shade_reference(set: &LightSet, mat: &Material, p: DVec3, n: DVec3, eye: DVec3) -> DVec3 {
+    shade_reference_tinted(set, mat, p, n, eye, DVec3::ONE)
+}
+
+/// [`shade_reference`] with the ambient and diffuse light scaled by the surface colour `tint`
+/// (a texture, a vertex colour) and the specular highlight added untinted ("modulate with
+/// separate specular"); a `tint` of one is [`shade_reference`] bit for bit.
+#[must_use]
+pub fn shade_reference_tinted(
+    set: &LightSet,
+    mat: &Material,
+    p: DVec3,
+    n: DVec3,
+    eye: DVec3,
+    tint: DVec3,
+) -> DVec3 {
     let d = |v: Vec3| v.as_dvec3();
-    let ambient = d(mat.emission) + d(mat.ka) * d(set.ambient());
+    let ambient = (d(mat.emission) + d(mat.ka) * d(set.ambient())) * tint;
     let n = safe_normalize_f64(n, DVec3::ZERO);
     if n == DVec3::ZERO {
         return finite_f64(ambient);
@@ -37,7 +52,7 @@ pub fn shade_reference(set: &LightSet, mat: &Material, p: DVec3, n: DVec3, eye: 
             }
         };
         let w = mat.fresnel.w_f64(n_dot_l);
-        sum += f * (d(mat.kd) * n_dot_l * d(il) + d(mat.ks) * (w * lobe) * d(il_s));
+        sum += f * (d(mat.kd) * n_dot_l * d(il) * tint + d(mat.ks) * (w * lobe) * d(il_s));
     };
     for light in set.directional() {
         let l = safe_normalize_f64(d(light.to_light), n);

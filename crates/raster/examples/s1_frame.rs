@@ -69,6 +69,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         effects,
         mode,
         bump: None,
+        texture: None,
         cull_backfaces: cull,
     };
     // S1_ONLY=phong (or fill-only, ...) restricts the run to one line, for profilers.

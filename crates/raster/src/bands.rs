@@ -26,7 +26,7 @@ use crate::framebuffer::{Framebuffer, clear_rows, mark_dirty, same_color};
 use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
-use crate::shader::{Face, Shader};
+use crate::shader::{Face, Shader, interpolated};
 use crate::traverse::{Planes, SpanShade};
 use crate::viewport::band_rows;
 
@@ -223,7 +223,7 @@ fn by_pixel_pass<S: Shader>(
         extents,
         width: target.width,
         y0: target.y0,
-        n: S::VARYINGS,
+        n: interpolated::<S>(),
         perspective: input.perspective && S::VARYINGS > 0,
         block: block as usize,
     };
@@ -335,6 +335,9 @@ fn visible_planes<S: Shader>(
                 u32::MAX
             });
             if visible {
+                if let Some(k) = S::GRADIENTS {
+                    t.add_gradients(k);
+                }
                 planes.push(Planes::of(&t));
             }
             k += 1;

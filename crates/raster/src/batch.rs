@@ -8,7 +8,7 @@ use phosphor_lighting::Lanes;
 
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::framebuffer::clamp_color;
-use crate::shader::{MAX_VARYINGS, Shader, Varyings};
+use crate::shader::{MAX_VARYINGS, Shader, Varyings, interpolated};
 
 /// Pixels waiting to be shaded `N` at a time, each with where its colour goes: a pixel index
 /// of the band (`usize`), or a multisampled block's samples.
@@ -118,7 +118,7 @@ pub(crate) fn varyings_of_rows<S: Shader, L: Lanes, const N: usize>(
     };
     let lo = like.columns(&block(0));
     v[..8].copy_from_slice(&lo);
-    if S::VARYINGS > 8 {
+    if interpolated::<S>() > 8 {
         let hi = like.columns(&block(8));
         v[8..].copy_from_slice(&hi);
     }

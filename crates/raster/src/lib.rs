@@ -44,6 +44,7 @@
 //!     effects: Effects::ALL,
 //!     mode: ShadingMode::Phong,
 //!     bump: None,
+//!     texture: None,
 //!     cull_backfaces: false,
 //! };
 //! let mut fb = Framebuffer::new(64, 48).unwrap();
@@ -85,6 +86,7 @@ pub(crate) mod setup;
 pub mod shader;
 pub mod shaders;
 pub mod simd;
+pub mod texture;
 pub(crate) mod traverse;
 pub(crate) mod vertex;
 pub(crate) mod viewport;
@@ -102,6 +104,7 @@ pub use shader::Shader;
 pub use shaders::check::FAST_PHONG_TOLERANCE;
 pub use shaders::taylor::MAX_TAYLOR_LIGHTS;
 pub use simd::{SimdLevel, UnknownSimdLevel};
+pub use texture::{Filter, Texture, TextureError, Wrap};
 
 /// The shading modes; names as used by the CLI and scene files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -319,6 +322,9 @@ pub struct DrawItem<'a> {
     pub mode: ShadingMode,
     /// Optional height field (with BUMP in `effects`, uvs and tangents in the mesh).
     pub bump: Option<&'a BumpMap>,
+    /// Optional colour map (with uvs in the mesh): it scales the ambient and diffuse light,
+    /// the specular highlight is added untinted ([`shaders`] says how each mode samples).
+    pub texture: Option<&'a Texture>,
     /// Skip this draw's triangles facing away (clockwise on screen), as
     /// [`RenderOptions::cull_backfaces`] does for every draw. Exact only for a closed solid seen
     /// from outside; the scene's frame plan decides when that holds.

@@ -76,8 +76,13 @@ impl<S: Shader> BandInput<'_, S> {
         r: &TriRec,
         n: usize,
     ) -> bool {
-        self.vertices_of(r, c, n)
-            .is_some_and(|(p, a)| t.set(p, a, n, self.perspective))
+        let set = self
+            .vertices_of(r, c, n)
+            .is_some_and(|(p, a)| t.set(p, a, n, self.perspective));
+        if let (true, Some(k)) = (set && n > 0, S::GRADIENTS) {
+            t.add_gradients(k);
+        }
+        set
     }
 
     /// Reads the first vertex data set-up will need of record `r` (one [`AHEAD`] places on),

@@ -6,6 +6,7 @@
 use phosphor_math::fixed::{SUBPIXEL_BITS, SUBPIXEL_ONE, to_fixed};
 
 use crate::clip::{Attrs, ClipVertex, MAX_ATTRS};
+use crate::shader::GRADIENT_SLOTS;
 
 const HALF: i64 = SUBPIXEL_ONE / 2;
 const INV_ONE: f64 = 1.0 / SUBPIXEL_ONE as f64;
@@ -358,6 +359,37 @@ impl RasterTri {
         self.n = n;
         self.perspective = perspective && n > 0;
         true
+    }
+
+    /// Appends the gradient slots of [`crate::shader::Shader::GRADIENTS`] after the first
+    /// `self.n` attributes: the screen gradients of attributes `k` and `k + 1` and of `1/w`
+    /// (`U_x, V_x, U_y, V_y, R_x, R_y`) as constant planes, so that the traversal's `* w`
+    /// turns them into what [`crate::shader::uv_derivatives`] reads.
+    #[inline(always)]
+    pub fn add_gradients(&mut self, k: usize) {
+        let at = self.n;
+        if k + 1 >= at || at + GRADIENT_SLOTS > MAX_ATTRS {
+            return;
+        }
+        let (rx, ry) = if self.perspective {
+            (self.inv_w[1] as f32, self.inv_w[2] as f32)
+        } else {
+            (0.0, 0.0)
+        };
+        let g = [
+            self.attr_dx[k],
+            self.attr_dx[k + 1],
+            self.attr_dy[k],
+            self.attr_dy[k + 1],
+            rx,
+            ry,
+        ];
+        for (j, g) in g.into_iter().enumerate() {
+            self.attr0[at + j] = g;
+            self.attr_dx[at + j] = 0.0;
+            self.attr_dy[at + j] = 0.0;
+        }
+        self.n = at + GRADIENT_SLOTS;
     }
 
     /// Edge values at the centre of pixel `(x, y)`.

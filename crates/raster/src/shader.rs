@@ -253,6 +253,11 @@ pub trait Shader: Sync {
     const SHADE_ONCE: bool = true;
     /// The per-triangle data of [`Face::Stepped`] (`()` otherwise).
     type Stepped: Send + Sync;
+    /// `Some(k)`: the pixel stage needs the screen-space derivatives of varyings `k` and
+    /// `k + 1` (texture coordinates, for a mip level). The rasterizer then fills the
+    /// [`GRADIENT_SLOTS`] varyings after the shader's own, read by [`uv_derivatives`]; so
+    /// `VARYINGS + GRADIENT_SLOTS` must not exceed [`MAX_VARYINGS`].
+    const GRADIENTS: Option<usize> = None;
 
     /// The varyings of one vertex per lane.
     fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L>;
@@ -295,6 +300,42 @@ pub trait Shader: Sync {
         let _ = (data, quadratics, at);
         self.pixel(v)
     }
+}
+
+/// Varyings the rasterizer adds for [`Shader::GRADIENTS`].
+pub const GRADIENT_SLOTS: usize = 6;
+
+/// The varyings the rasterizer interpolates for `S`: its own and the gradient slots.
+#[must_use]
+pub const fn interpolated<S: Shader>() -> usize {
+    match S::GRADIENTS {
+        Some(_) => S::VARYINGS + GRADIENT_SLOTS,
+        None => S::VARYINGS,
+    }
+}
+
+/// `[du/dx, dv/dx, du/dy, dv/dy]` per lane for a shader whose [`Shader::GRADIENTS`] is
+/// `Some(k)`, with `u = v[k]`, `v = v[k + 1]`: exact for the perspective-correct (or, in
+/// screen-space interpolation, affine) interpolation of the pixel's own triangle.
+///
+/// With `u = U / R` (`U` and `R = 1/w` affine in screen space),
+/// `du/dx = (U_x - u R_x) / R`; the gradient slots hold `U_x, V_x, U_y, V_y, R_x, R_y`
+/// times `w`.
+#[inline(always)]
+#[must_use]
+pub fn uv_derivatives<S: Shader, L: Lanes>(v: &Varyings<L>) -> [L; 4] {
+    let k = match S::GRADIENTS {
+        Some(k) => k,
+        None => 0,
+    };
+    let g = S::VARYINGS;
+    let (u, vv) = (v[k], v[k + 1]);
+    [
+        v[g] - u * v[g + 4],
+        v[g + 1] - vv * v[g + 4],
+        v[g + 2] - u * v[g + 5],
+        v[g + 3] - vv * v[g + 5],
+    ]
 }
 
 /// `v[at..at + 3]` as a vector of lanes.

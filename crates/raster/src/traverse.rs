@@ -20,7 +20,7 @@ use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, lanes, pixel_drawn};
 use crate::framebuffer::clamp_color;
 use crate::setup::RasterTri;
-use crate::shader::{MAX_QUADRATICS, Pixels, Shader, Stepped, Varyings};
+use crate::shader::{MAX_QUADRATICS, Pixels, Shader, Stepped, Varyings, interpolated};
 
 /// What a traversal does at each covered pixel that passes its test.
 pub(crate) trait SpanShade {
@@ -96,13 +96,13 @@ fn first(c: phosphor_lighting::Vec3s<F32x1>) -> Vec3 {
 pub(crate) struct OnePixel<'s, S>(pub &'s S);
 
 impl<S: Shader> SpanShade for OnePixel<'_, S> {
-    const ATTRS: usize = S::VARYINGS;
+    const ATTRS: usize = interpolated::<S>();
     type Span = ();
     #[inline(always)]
     fn span(&self, _: f64, _: f64) {}
     #[inline(always)]
     fn pixel(&mut self, _: &(), idx: usize, (a, w): (&Attrs, f32), _: (i64, i64), c: &mut [Vec3]) {
-        c[idx] = first(self.0.pixel(&one_lane(a, w, lanes(S::VARYINGS))));
+        c[idx] = first(self.0.pixel(&one_lane(a, w, lanes(interpolated::<S>()))));
     }
     #[inline(always)]
     fn step(_: &mut ()) {}
@@ -116,7 +116,7 @@ pub(crate) struct Batched<'s, S> {
 }
 
 impl<S: Shader> SpanShade for Batched<'_, S> {
-    const ATTRS: usize = S::VARYINGS;
+    const ATTRS: usize = interpolated::<S>();
     type Span = ();
     #[inline(always)]
     fn span(&self, _: f64, _: f64) {}
@@ -127,7 +127,7 @@ impl<S: Shader> SpanShade for Batched<'_, S> {
             shade_rows(shader, phosphor_lighting::f32x4::ZERO, rows, count)
         };
         self.pending
-            .push(idx, (a.0, a.1, lanes(S::VARYINGS)), shade, c);
+            .push(idx, (a.0, a.1, lanes(interpolated::<S>())), shade, c);
     }
     #[inline(always)]
     fn step(_: &mut ()) {}
@@ -149,7 +149,7 @@ pub(crate) struct SteppedSpan<'s, S: Shader> {
 }
 
 impl<S: Shader> SpanShade for SteppedSpan<'_, S> {
-    const ATTRS: usize = S::VARYINGS;
+    const ATTRS: usize = interpolated::<S>();
     type Span = [[f64; 3]; MAX_QUADRATICS];
     #[inline(always)]
     fn span(&self, x: f64, y: f64) -> Self::Span {
@@ -175,7 +175,7 @@ impl<S: Shader> SpanShade for SteppedSpan<'_, S> {
             x: F32x1(x as f32 + 0.5),
             y: F32x1(y as f32 + 0.5),
         };
-        let v = one_lane(a, w, lanes(S::VARYINGS));
+        let v = one_lane(a, w, lanes(interpolated::<S>()));
         c[idx] = first(self.shader.stepped_pixel(&self.tri.data, &q, &v, &at));
     }
     #[inline(always)]

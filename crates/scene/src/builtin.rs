@@ -129,6 +129,7 @@ impl Scene {
             MaterialDef {
                 material: Material::s1(),
                 bump: None,
+                kd_map: None,
             },
         );
         s.world.spawn((

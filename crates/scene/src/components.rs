@@ -406,4 +406,6 @@ pub struct MaterialDef {
     pub material: phosphor_lighting::Material,
     /// The bump map, if any: source and slope scale.
     pub bump: Option<(BumpSource, f32)>,
+    /// The colour map (`kd_map`), if any: it scales the ambient and diffuse light.
+    pub kd_map: Option<crate::textures::MapSource>,
 }

@@ -61,6 +61,7 @@ pub mod file;
 pub mod plan;
 pub mod preset;
 pub mod render;
+pub mod textures;
 pub mod view;
 
 pub use budget::{MAX_DISTRIBUTED_SAMPLES, SampleCut, limit_distributed_samples, point_samples};
@@ -76,6 +77,7 @@ pub use plan::{
     pixels_per_triangle, plan_frame,
 };
 pub use render::{FrameReport, draw_items, raster_options, render_frame};
+pub use textures::ColorMap;
 
 /// Largest accepted image side, in pixels.
 pub const MAX_SIDE: u32 = 16_384;

@@ -29,11 +29,12 @@ use hecs::Entity;
 use phosphor_lighting::{
     Attenuation, Effects, Light, LightKind, LightSet, Material, SpecularModel,
 };
-use phosphor_raster::{Antialias, BumpMap, Camera, Projection, ShadingMode};
+use phosphor_raster::{Antialias, BumpMap, Camera, Projection, ShadingMode, Texture};
 
 use crate::components::{
     Bump, MeshInfo, MeshRef, Name, SceneMesh, Shading, ShadingChoice, Transform,
 };
+use crate::textures::ColorMap;
 use crate::{CullChoice, Scene};
 
 /// `auto` accepts a cheaper mode when its estimated error is at most this (one 8-bit code).
@@ -98,6 +99,8 @@ pub struct FrameOptions {
     pub shading: Option<ShadingChoice>,
     /// Bump mapping on (default) or off for every object.
     pub bump: bool,
+    /// Colour maps on (default) or off for every object.
+    pub textures: bool,
     /// Overrides the scene's `perspective_correct`.
     pub perspective_correct: Option<bool>,
     /// Worker threads, 0 = all cores.
@@ -119,6 +122,7 @@ impl Default for FrameOptions {
         FrameOptions {
             shading: None,
             bump: true,
+            textures: true,
             perspective_correct: None,
             threads: 0,
             antialias: None,
@@ -145,6 +149,8 @@ pub struct PlannedObject {
     pub material: Material,
     /// The bump map, when bump mapping applies to this draw.
     pub bump: Option<Arc<BumpMap>>,
+    /// The colour map, when the object has one, its mesh has uvs and maps are on.
+    pub texture: Option<Arc<Texture>>,
     /// The mode chosen.
     pub mode: ShadingMode,
     /// Why that mode.
@@ -622,9 +628,10 @@ pub fn plan_frame(
             &Material,
             Option<&Bump>,
             Option<&Shading>,
+            Option<&ColorMap>,
         )>()
         .iter()
-        .map(|(e, n, t, m, mat, b, s)| {
+        .map(|(e, n, t, m, mat, b, s, c)| {
             (
                 e,
                 n.0.clone(),
@@ -633,11 +640,14 @@ pub fn plan_frame(
                 *mat,
                 b.map(|b| b.0.clone()),
                 s.map(|s| s.0),
+                c.map(|c| c.0.clone()),
             )
         })
         .collect();
     objects.sort_by_key(|o| o.0.id());
-    for (entity, name, tr, mesh, material, bump, shading) in objects {
+    for (entity, name, tr, mesh, material, bump, shading, texture) in objects {
+        // Sampling is compiled into the draw only where a map is drawn.
+        let texture = texture.filter(|_| opts.textures && mesh.mesh.uvs.is_some());
         let model = tr.matrix();
         let scale = tr.max_scale();
         let sphere = Sphere {
@@ -733,6 +743,7 @@ pub fn plan_frame(
             mesh,
             material,
             bump,
+            texture,
             mode,
             reason,
             effects,

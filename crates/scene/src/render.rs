@@ -34,7 +34,7 @@ pub fn draw_items(plan: &FramePlan) -> Vec<DrawItem<'_>> {
                     normals: &m.normals,
                     uvs: m.uvs.as_deref(),
                     tangents: m.tangents.as_deref(),
-                    colors: None,
+                    colors: m.colors.as_deref(),
                     indices: &m.indices,
                 },
                 model: o.model,
@@ -43,6 +43,7 @@ pub fn draw_items(plan: &FramePlan) -> Vec<DrawItem<'_>> {
                 effects: o.effects,
                 mode: o.mode,
                 bump: o.bump.as_deref(),
+                texture: o.texture.as_deref(),
                 cull_backfaces: o.cull_backfaces,
             }
         })

@@ -39,12 +39,15 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if let Output::Files(pattern) = &output {
         // A missing folder is made only when the frame is written (crate::folders).
         let first = pattern.path(frames.start);
-        if pattern.is_numbered() || !missing_folders(&first)?.is_empty() {
+        let missing = !missing_folders(&first)?.is_empty();
+        if pattern.is_numbered() || missing {
             format_of(pattern.given())?;
         }
-        // The first file stands for the folder: missing, unwritable or not a real one is
-        // refused now, not after the first frame is drawn.
-        check_output(&pattern.path(frames.start), args.force)?;
+        // The first file stands for the folder: unwritable or not a real one is refused now,
+        // not after the first frame is drawn (a missing one is made then).
+        if !missing {
+            check_output(&first, args.force)?;
+        }
         if args.plan && is_stdout(&pattern.path(frames.start)) {
             return Err(CliError::Usage(format!(
                 "-o {}: is standard output, which cannot also take --plan",

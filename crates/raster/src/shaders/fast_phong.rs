@@ -372,10 +372,11 @@ fn taylor_stepped(t: TaylorTri) -> Stepped<FastTri> {
     s
 }
 
-/// Draws `d` with fast Phong shading into `frame`, specialized for its effects; a bumped
-/// draw is drawn with `phong` (the quadratics cannot follow a height field).
+/// Draws `d` with fast Phong shading into `frame`, specialized for its effects; a bumped,
+/// textured or vertex-coloured draw is drawn with `phong` (the quadratics follow none of
+/// them).
 pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
-    if d.bump.is_some() {
+    if d.bump.is_some() || super::tinted::is_tinted(d) {
         return super::phong::draw(frame, d);
     }
     let lit = Lit::new(d.lights, d.material, d.effects, frame.eye());

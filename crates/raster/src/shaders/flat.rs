@@ -48,6 +48,9 @@ impl<const FX: u32> Shader for Flat<'_, FX> {
 
 /// Draws `d` flat into `frame`, specialized for its effects.
 pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
+    if super::tinted::is_tinted(d) {
+        return super::tinted::draw_flat(frame, d);
+    }
     let lit = Lit::new(d.lights, d.material, d.effects, frame.eye());
     crate::with_fx!(d.effects, FX => frame.draw(&d.mesh, d.model, &Flat::<FX> { lit }, d.cull_backfaces));
 }

@@ -44,6 +44,9 @@ impl<const FX: u32> Shader for Gouraud<'_, FX> {
 
 /// Draws `d` with Gouraud shading into `frame`, specialized for its effects.
 pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
+    if super::tinted::is_tinted(d) {
+        return super::tinted::draw_gouraud(frame, d);
+    }
     let lit = Lit::new(d.lights, d.material, d.effects, frame.eye());
     let vertex_clamp = frame.options().gouraud_vertex_clamp;
     crate::with_fx!(d.effects, FX => frame.draw(&d.mesh, d.model, &Gouraud::<FX> { lit, vertex_clamp }, d.cull_backfaces));

@@ -1,6 +1,7 @@
 //! The built-in shading modes, each a [`Shader`](crate::shader::Shader) written against the
 //! public contract alone: [`flat`], [`gouraud`], [`phong`], [`fast_phong`] (with
-//! [`taylor`]), [`reference`](mod@reference), and [`fill`] (coverage and depth in one colour).
+//! [`taylor`]), [`reference`](mod@reference), and [`fill`] (coverage and depth in one colour);
+//! [`tinted`] holds their forms for a draw with vertex colours or a texture.
 //!
 //! # Effect specialization
 //!
@@ -24,6 +25,7 @@ pub mod gouraud;
 pub mod phong;
 pub mod reference;
 pub mod taylor;
+pub mod tinted;
 
 /// What every lit mode shades with: the draw's lights, material and viewer.
 #[derive(Debug, Clone, Copy)]

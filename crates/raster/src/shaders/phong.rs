@@ -73,6 +73,9 @@ impl<const FX: u32, const BUMP: bool> Shader for Phong<'_, FX, BUMP> {
 
 /// Draws `d` with Phong shading into `frame`, specialized for its effects and bump map.
 pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
+    if super::tinted::is_tinted(d) {
+        return super::tinted::draw_phong(frame, d);
+    }
     let lit = Lit::new(d.lights, d.material, d.effects, frame.eye());
     let (mesh, model, cull) = (&d.mesh, d.model, d.cull_backfaces);
     match d.bump {

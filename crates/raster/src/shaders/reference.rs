@@ -4,14 +4,15 @@
 //! fill rule as every other mode; the draw's effect set does not apply (the model is exact).
 
 use glam::{DVec2, DVec3, Vec2, Vec3, Vec4};
-use phosphor_lighting::{Lanes, LightSet, Material, Vec3s, shade_reference};
+use phosphor_lighting::{Lanes, LightSet, Material, Vec3s, shade_reference_tinted};
 
 use super::phong::surface_varyings;
 use crate::bump::BumpMap;
 use crate::shader::{
     Face, MAX_QUADRATICS, MAX_VARYINGS, Pixels, ScreenTriangle, Shader, Stepped, Varyings,
-    VertexLanes,
+    VertexLanes, put_vec3,
 };
+use crate::texture::Texture;
 
 /// The reference mode.
 #[derive(Debug, Clone, Copy)]
@@ -24,6 +25,11 @@ pub struct Reference<'a> {
     pub eye: DVec3,
     /// Height field, when the draw is bumped (and has uvs and tangents).
     pub bump: Option<&'a BumpMap>,
+    /// Colour map, sampled in `f64` with its filter at the exact screen derivatives of the
+    /// perspective-correct texture coordinates.
+    pub texture: Option<&'a Texture>,
+    /// Whether the mesh has vertex colours (varyings 12..15).
+    pub colors: bool,
 }
 
 /// Per-triangle data: screen positions, true `1/w`, and the varyings (not divided by `w`).
@@ -41,17 +47,24 @@ impl Reference<'_> {
         let [a, b, c] = t.screen;
         let cross = |u: DVec2, v: DVec2| u.x * v.y - u.y * v.x;
         // Screen-space barycentrics, then perspective-correct ones: b_i/w_i normalized.
-        let l0 = cross(b - p, c - p) * t.inv_area;
-        let l1 = cross(c - p, a - p) * t.inv_area;
-        let l2 = 1.0 - l0 - l1;
-        let q = [l0 * t.rhw[0], l1 * t.rhw[1], l2 * t.rhw[2]];
-        let s = q[0] + q[1] + q[2];
-        let wts = if s.abs() > 1e-300 {
-            q.map(|x| x / s)
-        } else {
-            [l0, l1, l2]
+        // The perspective-correct weights at `p`, and the sums `sum_i l_i rhw_i` and
+        // `sum_i l_i rhw_i u_i, ... v_i` (affine in `p`) that the derivatives need.
+        let at = |p: DVec2| {
+            let l0 = cross(b - p, c - p) * t.inv_area;
+            let l1 = cross(c - p, a - p) * t.inv_area;
+            let l2 = 1.0 - l0 - l1;
+            let q = [l0 * t.rhw[0], l1 * t.rhw[1], l2 * t.rhw[2]];
+            let s = q[0] + q[1] + q[2];
+            let wts = if s.abs() > 1e-300 {
+                q.map(|x| x / s)
+            } else {
+                [l0, l1, l2]
+            };
+            let uv = |k: usize| q[0] * t.attrs[0][k] + q[1] * t.attrs[1][k] + q[2] * t.attrs[2][k];
+            (wts, [s, uv(6), uv(7)])
         };
-        let v: [f64; 12] = std::array::from_fn(|k| {
+        let (wts, sums) = at(p);
+        let v: [f64; 15] = std::array::from_fn(|k| {
             wts[0] * t.attrs[0][k] + wts[1] * t.attrs[1][k] + wts[2] * t.attrs[2][k]
         });
         let point = DVec3::new(v[0], v[1], v[2]);
@@ -61,17 +74,38 @@ impl Reference<'_> {
             let uv = Vec2::new(v[6] as f32, v[7] as f32);
             normal = map.perturb(normal.as_vec3(), t4, uv).as_dvec3();
         }
-        shade_reference(self.set, &self.mat, point, normal, self.eye).as_vec3()
+        let mut tint = DVec3::ONE;
+        if self.colors {
+            tint = DVec3::new(v[12], v[13], v[14]);
+        }
+        if let Some(texture) = self.texture {
+            // u = N / D with N and D affine: du/dx = (N_x - u D_x) / D.
+            let (sx, sy) = (at(p + DVec2::X).1, at(p + DVec2::Y).1);
+            let d = |s2: [f64; 3], k: usize, uv: f64| {
+                let den = sums[0];
+                if den.abs() > 1e-300 {
+                    ((s2[k] - sums[k]) - uv * (s2[0] - sums[0])) / den
+                } else {
+                    0.0
+                }
+            };
+            let (u, w) = (v[6], v[7]);
+            let derivs = [d(sx, 1, u), d(sx, 2, w), d(sy, 1, u), d(sy, 2, w)];
+            tint *= texture.sample_f64(u, w, derivs);
+        }
+        shade_reference_tinted(self.set, &self.mat, point, normal, self.eye, tint).as_vec3()
     }
 }
 
 impl Shader for Reference<'_> {
-    const VARYINGS: usize = 12;
+    const VARYINGS: usize = 15;
     const FACE: Face = Face::Stepped;
     type Stepped = RefTri;
     #[inline(always)]
     fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L> {
-        surface_varyings(v, true)
+        let mut out = surface_varyings(v, true);
+        put_vec3(&mut out, 12, v.color);
+        out
     }
     fn stepped(&self, t: &ScreenTriangle) -> Option<Stepped<RefTri>> {
         let screen = t.corners.map(|c| DVec2::new(c.x, c.y));
@@ -126,6 +160,8 @@ pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
         mat,
         eye: frame.eye().as_dvec3(),
         bump: d.bump,
+        texture: d.texture,
+        colors: d.mesh.colors.is_some(),
     };
     frame.draw(&d.mesh, d.model, &shader, d.cull_backfaces);
 }

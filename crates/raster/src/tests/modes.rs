@@ -518,6 +518,7 @@ fn bump_mapping_perturbs_phong_and_reference_alike_and_flat_ignores_it() {
     let opts = RenderOptions::default();
     let bumped = |mode| DrawItem {
         bump: Some(&bump),
+        texture: None,
         effects: Effects::ALL,
         ..item(&sphere, &mat, &set, mode)
     };
@@ -550,6 +551,7 @@ fn bump_mapping_perturbs_phong_and_reference_alike_and_flat_ignores_it() {
     };
     let d = DrawItem {
         bump: Some(&bump),
+        texture: None,
         ..item(&no_frame, &mat, &set, ShadingMode::Phong)
     };
     assert_eq!(draw_image(64, 48, &cam, &[d], &opts).1.bump_ignored, 1);

@@ -152,6 +152,7 @@ pub fn item<'a>(
         effects: Effects::ALL,
         mode,
         bump: None,
+        texture: None,
         cull_backfaces: false,
     }
 }

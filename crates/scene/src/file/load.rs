@@ -1,6 +1,6 @@
 //! Scene files (TOML) to a [`Scene`]: every field checked, every error naming its field.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -10,7 +10,7 @@ use phosphor_lighting::{
 };
 use phosphor_mesh::primitives::{PrimitiveError, gigabytes};
 use phosphor_mesh::{MAX_MESH_FILE_BYTES, MeshFormat, NormalOptions, NormalSource, Weighting};
-use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump};
+use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump, Texture, Wrap};
 
 use super::read::{Fields, choose};
 use crate::budget::{MAX_DISTRIBUTED_SAMPLES, limit_distributed_samples};
@@ -19,6 +19,7 @@ use crate::components::{
     PRIMITIVE_BUDGET_BYTES, Primitive, SceneMesh, Shading, ShadingChoice, Transform,
 };
 use crate::error::SceneError;
+use crate::textures::{ColorMap, MapSource, checkerboard, decode, wrap_of};
 use crate::{CullChoice, RenderSettings, Scene};
 
 /// Reads the files a scene names (meshes, MTL, bump images): the disk, or embedded text.
@@ -124,6 +125,7 @@ pub fn parse_scene(
     }
     let mut meshes: HashMap<String, Arc<SceneMesh>> = HashMap::new();
     let mut bumps: BTreeMap<String, Arc<BumpMap>> = BTreeMap::new();
+    let mut maps: BTreeMap<String, Option<Arc<Texture>>> = BTreeMap::new();
     let mut primitive_bytes = 0u64;
     let objects = root.tables("objects")?;
     check_primitive_budget(&objects)?;
@@ -136,6 +138,7 @@ pub fn parse_scene(
             files,
             &mut meshes,
             &mut bumps,
+            &mut maps,
             &mut primitive_bytes,
         )?;
     }
@@ -466,6 +469,28 @@ fn material(m: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<MaterialDef
         Some(b) => Some(bump(&b, dir, files)?),
         None => None,
     };
+    // A missing or bad image is a warning when the material is used, not an error: the
+    // object renders without its map.
+    let kd_map = match m.get("kd_map") {
+        Some(toml::Value::Table(_)) => {
+            let Some(t) = m.table("kd_map")? else {
+                unreachable!("a table")
+            };
+            if t.str("procedural")? != Some("checker") {
+                return Err(t.error("procedural", "expected \"checker\""));
+            }
+            let squares = t.u32("squares")?.unwrap_or(8);
+            if !(1..=256).contains(&squares) {
+                return Err(t.error("squares", format!("must be 1 to 256, got {squares}")));
+            }
+            t.finish(&["procedural", "squares"])?;
+            Some(MapSource::Checker { squares })
+        }
+        _ => m.str("kd_map")?.map(|written| MapSource::File {
+            written: written.to_owned(),
+            resolved: dir.join(written),
+        }),
+    };
     m.finish(&[
         "ka",
         "kd",
@@ -475,10 +500,12 @@ fn material(m: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<MaterialDef
         "fresnel",
         "emission",
         "bump",
+        "kd_map",
     ])?;
     Ok(MaterialDef {
         material: mat,
         bump,
+        kd_map,
     })
 }
 
@@ -679,6 +706,7 @@ fn object(
     files: &dyn Files,
     meshes: &mut HashMap<String, Arc<SceneMesh>>,
     bumps: &mut BTreeMap<String, Arc<BumpMap>>,
+    maps: &mut BTreeMap<String, Option<Arc<Texture>>>,
     primitive_bytes: &mut u64,
 ) -> Result<(), SceneError> {
     let name = o
@@ -721,6 +749,7 @@ fn object(
         None if material_name == "default" => MaterialDef {
             material: Material::default(),
             bump: None,
+            kd_map: None,
         },
         None => {
             let known: Vec<&str> = scene.materials.keys().map(String::as_str).collect();
@@ -801,7 +830,116 @@ fn object(
         }
         scene.world.insert_one(entity, Bump(map)).ok();
     }
+    if let Some(map) = color_map(scene, o, material_name, &def, &mesh, files, maps) {
+        scene.world.insert_one(entity, ColorMap(map)).ok();
+    }
     Ok(())
+}
+
+/// The colour map of an object: its scene material's `kd_map`, else the one map every
+/// material of its mesh names (MTL `map_Kd`, glTF `baseColorTexture`), decoded once per
+/// image. A map that cannot be used is one warning naming the material, the map and the
+/// file, and the object is drawn without it.
+fn color_map(
+    scene: &mut Scene,
+    o: &Fields<'_>,
+    material_name: &str,
+    def: &MaterialDef,
+    mesh: &SceneMesh,
+    files: &dyn Files,
+    maps: &mut BTreeMap<String, Option<Arc<Texture>>>,
+) -> Option<Arc<Texture>> {
+    let (what, key, wrap, read): (
+        String,
+        String,
+        _,
+        Box<dyn Fn() -> std::io::Result<Arc<[u8]>>>,
+    ) = if let Some(src) = &def.kd_map {
+        match src {
+            MapSource::File { written, resolved } => {
+                let resolved = resolved.clone();
+                (
+                    format!("material \"{material_name}\" kd_map \"{written}\""),
+                    format!("file:{}", resolved.display()),
+                    (Wrap::Repeat, Wrap::Repeat),
+                    Box::new(move || files.read_bytes(&resolved).map(Arc::from)),
+                )
+            }
+            MapSource::Checker { squares } => {
+                if mesh.mesh.uvs.is_none() {
+                    return None;
+                }
+                let key = format!("checker:{squares}");
+                let map = maps.entry(key).or_insert_with(|| {
+                    Some(Arc::new(checkerboard(
+                        *squares,
+                        16,
+                        Vec3::ONE,
+                        Vec3::splat(0.25),
+                    )))
+                });
+                return map.clone();
+            }
+        }
+    } else {
+        let used: BTreeSet<u32> = mesh.mesh.material_ids.iter().copied().collect();
+        let refs: Vec<Option<&phosphor_mesh::TextureRef>> = used
+            .iter()
+            .map(|&i| {
+                mesh.mesh
+                    .materials
+                    .get(i as usize)
+                    .and_then(|m| m.kd_map.as_ref())
+            })
+            .collect();
+        let first = refs.iter().flatten().next().copied()?;
+        if refs.iter().any(|r| *r != Some(first)) {
+            scene.warnings.push(format!(
+                    "warning: {}: {}: the mesh's materials name different colour maps (or some none); one map per object is drawn, so none is",
+                    o.file(),
+                    o.path_of("mesh")
+                ));
+            return None;
+        }
+        let source = first.source.clone();
+        (
+            format!(
+                "mesh material map \"{}\"",
+                phosphor_mesh::sanitize::quote(&first.written, 80)
+            ),
+            format!("mesh:{:?}", first.source),
+            (wrap_of(first.wrap_u), wrap_of(first.wrap_v)),
+            Box::new(move || source.bytes()),
+        )
+    };
+    if mesh.mesh.uvs.is_none() {
+        scene.warnings.push(format!(
+            "warning: {}: {}: {what}: the mesh has no texture coordinates; the map is not drawn",
+            o.file(),
+            o.path_of("material")
+        ));
+        return None;
+    }
+    let key = format!("{key}|{wrap:?}");
+    if let Some(done) = maps.get(&key) {
+        return done.clone();
+    }
+    let texture = read()
+        .map_err(|e| format!("cannot read: {e}"))
+        .and_then(|bytes| decode(&bytes, wrap));
+    let texture = match texture {
+        Ok(t) => Some(Arc::new(t)),
+        Err(e) => {
+            scene.warnings.push(format!(
+                "warning: {}: {}: {what}: {e}; drawn without it",
+                o.file(),
+                o.path_of("material")
+            ));
+            None
+        }
+    };
+    maps.insert(key, texture.clone());
+    texture
 }
 
 /// Adds up the footprints of the scene's distinct primitives in file order and refuses the

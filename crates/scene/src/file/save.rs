@@ -209,6 +209,18 @@ fn material_table(def: &MaterialDef) -> Table {
         b.insert("scale".into(), f(*scale));
         t.insert("bump".into(), Value::Table(b));
     }
+    match &def.kd_map {
+        Some(crate::textures::MapSource::File { written, .. }) => {
+            t.insert("kd_map".into(), s(written));
+        }
+        Some(crate::textures::MapSource::Checker { squares }) => {
+            let mut c = Table::new();
+            c.insert("procedural".into(), s("checker"));
+            c.insert("squares".into(), Value::Integer(i64::from(*squares)));
+            t.insert("kd_map".into(), Value::Table(c));
+        }
+        None => {}
+    }
     t
 }
 
