@@ -784,8 +784,8 @@ fn object(
                                 format!("{}: cannot read: {e}", resolved.display()),
                             )
                         })?;
-                        BumpMap::from_image_bytes(&bytes, resolved, *scale)
-                            .map_err(|e| SceneError::field(o.file(), field(), e.to_string()))?
+                        super::bump_image::decode(&bytes, resolved, *scale)
+                            .map_err(|e| SceneError::field(o.file(), field(), e))?
                     }
                 });
                 bumps.insert(key, map.clone());
