@@ -71,7 +71,7 @@ fn fail(message: &str) -> ExitCode {
 
 fn main() -> ExitCode {
     // Usage errors: one line naming the flag, exit 2; --help and --version: stdout, exit 0.
-    let args = term::parse_or_exit(Args::try_parse(), &Args::command());
+    let args = phosphor_args::usage::parse_or_exit(Args::try_parse(), &Args::command());
     let usage = |e: String| {
         term::tell(&format!("error: {e}"));
         ExitCode::from(2)
