@@ -42,6 +42,7 @@ mod mach;
 mod output;
 mod plot;
 mod progress;
+mod rgb8;
 mod view;
 
 use std::process::ExitCode;

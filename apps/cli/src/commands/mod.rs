@@ -1,6 +1,6 @@
 //! One module per subcommand; each exposes `run(&Args) -> Result<(), CliError>` (`shell` holds
 //! `completions` and `man`). This module
-//! holds what they share: where the scene comes from, and the frame size and options.
+//! holds what they share: the shading choice, what set the frame size, and the framebuffer.
 
 pub mod accuracy;
 pub mod bench;
@@ -9,46 +9,10 @@ pub mod render;
 pub mod shell;
 
 use phosphor_raster::ShadingMode;
-use phosphor_scene::{CullChoice, Scene, ShadingChoice};
+use phosphor_scene::ShadingChoice;
 
 use crate::CliError;
-use crate::args::{CullArg, ModeArg, SceneSource, Size};
-
-/// Loads the scene a command names: a scene file, a mesh in S1, or the embedded default.
-/// Warnings (missing MTL, ignored bump maps, samples cut to the budget) go to stderr, one
-/// short line each.
-pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
-    let mut scene = match (&source.scene, &source.mesh) {
-        (Some(path), _) => Scene::load(path),
-        (None, Some(mesh)) => {
-            Scene::s1_lights_with_mesh(mesh, crate::view::normal_options(&source.normals, true)?)
-        }
-        (None, None) => Scene::default_scene(),
-    }
-    .map_err(|e| CliError::Input(e.to_string()))?;
-    if let Some(cull) = source.cull {
-        scene.settings.cull_backfaces = match cull {
-            CullArg::Auto => CullChoice::Auto,
-            CullArg::Always => CullChoice::Always,
-            CullArg::Never => CullChoice::Never,
-        };
-    }
-    if let Some(aa) = source.aa {
-        scene.settings.antialias = aa;
-    }
-    for w in &scene.warnings {
-        phosphor_output::term::warn(w);
-    }
-    Ok(scene)
-}
-
-/// The frame size: `--size`, else the scene's `[render]` size.
-#[must_use]
-pub fn frame_size(scene: &Scene, size: Option<Size>) -> (u32, u32) {
-    size.map_or((scene.settings.width, scene.settings.height), |s| {
-        (s.width, s.height)
-    })
-}
+use crate::args::{ModeArg, SceneSource, Size};
 
 /// A command-line shading choice as the scene crate's.
 #[must_use]
