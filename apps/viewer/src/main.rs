@@ -30,7 +30,7 @@ use phosphor_raster::Antialias;
 use phosphor_scene::{Scene, ShadingChoice};
 
 use crate::args::Args;
-use crate::input::KEY_HELP;
+use crate::input::key_help;
 use crate::viewer::{DEFAULT_STILL_ANTIALIAS, Viewer, bytes_per_pixel};
 use crate::window::{WindowError, WindowOptions};
 
@@ -142,7 +142,7 @@ fn main() -> ExitCode {
         viewer.antialias = Antialias::Off;
     }
     if args.frames.is_none() {
-        term::say(KEY_HELP);
+        term::say(&key_help());
     }
     let options = WindowOptions {
         size,

@@ -1,6 +1,6 @@
 //! One module per subcommand; each exposes `run(&Args) -> Result<(), CliError>` (`shell` holds
 //! `completions` and `man`). This module
-//! holds what they share: the shading choice, what set the frame size, and the framebuffer.
+//! holds what they share: what set the frame size, and the framebuffer.
 
 pub mod accuracy;
 pub mod bench;
@@ -8,24 +8,8 @@ pub mod info;
 pub mod render;
 pub mod shell;
 
-use phosphor_raster::ShadingMode;
-use phosphor_scene::ShadingChoice;
-
 use crate::CliError;
-use crate::args::{ModeArg, SceneSource, Size};
-
-/// A command-line shading choice as the scene crate's.
-#[must_use]
-pub fn shading_choice(m: ModeArg) -> ShadingChoice {
-    match m {
-        ModeArg::Flat => ShadingChoice::Mode(ShadingMode::Flat),
-        ModeArg::Gouraud => ShadingChoice::Mode(ShadingMode::Gouraud),
-        ModeArg::Phong => ShadingChoice::Mode(ShadingMode::Phong),
-        ModeArg::FastPhong => ShadingChoice::Mode(ShadingMode::FastPhong),
-        ModeArg::Reference => ShadingChoice::Mode(ShadingMode::Reference),
-        ModeArg::Auto => ShadingChoice::Auto,
-    }
-}
+use crate::args::{SceneSource, Size};
 
 /// What set a command's image size, for messages: `--size`, or the scene file's `render` table.
 #[must_use]
