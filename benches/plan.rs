@@ -53,6 +53,7 @@ fn big_world() -> Scene {
         MaterialDef {
             material,
             bump: None,
+            kd_map: None,
         },
     );
     for i in 0..16 {

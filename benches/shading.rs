@@ -124,15 +124,14 @@ impl Pass {
     }
 }
 
-/// The modes of the S1 groups, cheapest first, then the fill-only bound.
-const S1_PASSES: [Pass; 6] = [
-    Pass::Shade(ShadingMode::Flat),
-    Pass::Shade(ShadingMode::Gouraud),
-    Pass::Shade(ShadingMode::FastPhong),
-    Pass::Shade(ShadingMode::Phong),
-    Pass::Shade(ShadingMode::Reference),
-    Pass::FillOnly,
-];
+/// The passes of the S1 groups: every mode of [`ShadingMode::ALL`] (cheapest first), then
+/// the fill-only bound.
+fn s1_passes() -> impl Iterator<Item = Pass> {
+    ShadingMode::ALL
+        .into_iter()
+        .map(Pass::Shade)
+        .chain([Pass::FillOnly])
+}
 
 /// The two modes the growth and plan groups compare.
 const GROWTH_MODES: [ShadingMode; 2] = [ShadingMode::Phong, ShadingMode::Gouraud];
@@ -265,7 +264,7 @@ fn s1_modes(c: &mut Criterion) {
     ] {
         let scene = Scene::s1(mesh);
         let mut g = settings.group(c, name);
-        for pass in S1_PASSES {
+        for pass in s1_passes() {
             let heavy = matches!(pass, Pass::Shade(ShadingMode::Reference));
             settings.samples(&mut g, heavy);
             let frame = Frame {

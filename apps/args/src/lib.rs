@@ -6,7 +6,7 @@
 //! the same checks and messages.
 //!
 //! Every check returns a one-line message naming its flag; each program turns it into its own
-//! usage error (exit 2).
+//! usage error (exit 2). clap's own errors become such a line too ([`usage`]).
 //!
 //! ```
 //! use clap::Parser;
@@ -24,6 +24,8 @@
 //! let bad = Cli::parse_from(["demo", "--fov", "0"]);
 //! assert!(camera_override(&bad.camera).unwrap_err().starts_with("--fov: "));
 //! ```
+
+pub mod usage;
 
 use std::path::Path;
 

@@ -6,6 +6,7 @@
 use phosphor_math::glam::Vec3;
 
 use crate::font;
+use crate::rgb8::Rgb8Image;
 
 /// One step of an 8-bit display: errors above this are visible in a PNG.
 pub const ONE_LSB: f64 = 1.0 / 255.0;
@@ -106,17 +107,6 @@ pub fn heat_colour(t: f32) -> [u8; 3] {
         out[c] = v.round().clamp(0.0, 255.0) as u8;
     }
     out
-}
-
-/// An 8-bit RGB image.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Rgb8Image {
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-    /// Row-major RGB bytes, `width * height * 3` of them.
-    pub data: Vec<u8>,
 }
 
 /// The error heat-map of `image` against `reference` (`width` x `height`): each pixel's largest

@@ -6,7 +6,7 @@
 //! domain, drawn for Phosphor in the style of the HD44780 character ROM) do the job with no
 //! dependency and no file to find at run time.
 
-use crate::accuracy::Rgb8Image;
+use crate::rgb8::Rgb8Image;
 
 /// Glyph width in font pixels.
 pub const GLYPH_WIDTH: u32 = 5;

@@ -22,7 +22,8 @@ use phosphor_math::glam::{Mat3, Vec3};
 use phosphor_raster::{DrawItem, Framebuffer, MeshView, RenderOptions, ShadingMode, render};
 use phosphor_scene::{FrameOptions, Scene, draw_items, plan_frame, raster_options};
 
-use crate::accuracy::{Rgb8Image, heat_colour, scale_bar_image};
+use crate::accuracy::{heat_colour, scale_bar_image};
+use crate::rgb8::Rgb8Image;
 
 /// No triangle (background, or a colour that did not decode to an id).
 pub const NO_ID: u32 = u32::MAX;

@@ -42,6 +42,7 @@ mod mach;
 mod output;
 mod plot;
 mod progress;
+mod rgb8;
 mod view;
 
 use std::process::ExitCode;
@@ -81,7 +82,7 @@ impl std::fmt::Display for CliError {
 
 fn main() -> ExitCode {
     // Usage errors: one line naming the flag, exit 2; --help and --version: stdout, exit 0.
-    let cli = term::parse_or_exit(Cli::try_parse(), &Cli::command());
+    let cli = phosphor_args::usage::parse_or_exit(Cli::try_parse(), &Cli::command());
     phosphor_mesh::allow_outside_assets(cli.allow_outside_assets);
     let result = match cli.command {
         Command::Render(a) => commands::render::run(&a),

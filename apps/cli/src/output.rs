@@ -10,7 +10,7 @@ use phosphor_raster::encode::Encoder;
 use phosphor_raster::{Encoding, Framebuffer};
 
 use crate::CliError;
-use crate::accuracy::Rgb8Image;
+use crate::rgb8::Rgb8Image;
 
 /// An output format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -6,8 +6,8 @@
 //! time. A mode with zero error (the reference itself) cannot sit on a log axis; its marker is
 //! drawn on the bottom axis line and its legend entry says `rmse 0`.
 
-use crate::accuracy::Rgb8Image;
 use crate::font::{draw_text, put, text_height, text_width};
+use crate::rgb8::Rgb8Image;
 
 /// Width of the plot image in pixels.
 pub const WIDTH: u32 = 1040;

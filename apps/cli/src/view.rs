@@ -7,11 +7,10 @@
 
 use phosphor_args::{CameraArgs, NormalArgs, camera_override, check_mesh_path, frame_and_apply};
 use phosphor_mesh::NormalOptions;
-use phosphor_scene::Scene;
+use phosphor_scene::{CullChoice, Scene};
 
 use crate::CliError;
-use crate::args::{SceneSource, Size};
-use crate::commands::{frame_size, load_source};
+use crate::args::{CullArg, SceneSource, Size};
 
 /// The normal options `--mesh` builds its mesh with (`mesh`: whether `--mesh` was given).
 ///
@@ -59,4 +58,40 @@ pub fn prepare(
     frame_and_apply(&mut scene, camera, &change, frame_mesh, (width, height))
         .map_err(CliError::Usage)?;
     Ok((scene, width, height))
+}
+
+/// Loads the scene a command names: a scene file, a mesh in S1, or the embedded default.
+/// Warnings (missing MTL, ignored bump maps, samples cut to the budget) go to stderr, one
+/// short line each.
+pub fn load_source(source: &SceneSource) -> Result<Scene, CliError> {
+    let mut scene = match (&source.scene, &source.mesh) {
+        (Some(path), _) => Scene::load(path),
+        (None, Some(mesh)) => {
+            Scene::s1_lights_with_mesh(mesh, normal_options(&source.normals, true)?)
+        }
+        (None, None) => Scene::default_scene(),
+    }
+    .map_err(|e| CliError::Input(e.to_string()))?;
+    if let Some(cull) = source.cull {
+        scene.settings.cull_backfaces = match cull {
+            CullArg::Auto => CullChoice::Auto,
+            CullArg::Always => CullChoice::Always,
+            CullArg::Never => CullChoice::Never,
+        };
+    }
+    if let Some(aa) = source.aa {
+        scene.settings.antialias = aa;
+    }
+    for w in &scene.warnings {
+        phosphor_output::term::warn(w);
+    }
+    Ok(scene)
+}
+
+/// The frame size: `--size`, else the scene's `[render]` size.
+#[must_use]
+pub fn frame_size(scene: &Scene, size: Option<Size>) -> (u32, u32) {
+    size.map_or((scene.settings.width, scene.settings.height), |s| {
+        (s.width, s.height)
+    })
 }

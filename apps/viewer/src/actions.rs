@@ -2,13 +2,13 @@
 
 use phosphor_lighting::Light;
 use phosphor_output::{memory, term};
-use phosphor_raster::{Antialias, Camera, FastPhongMethod, Interpolation, Projection};
+use phosphor_raster::{Antialias, Camera, FastPhongMethod, Interpolation, Projection, ShadingMode};
 use phosphor_scene::ShadingChoice;
 use phosphor_scene::preset::{ViewPreset, preset_camera};
 
-use crate::input::{Action, KEY_HELP, ModeKey, OrbitCamera};
+use crate::input::{Action, ModeKey, OrbitCamera, key_help};
 use crate::view;
-use crate::viewer::{KEY_MODES, Viewer, bytes_per_pixel};
+use crate::viewer::{Viewer, bytes_per_pixel};
 use crate::window::View;
 
 impl Viewer {
@@ -16,7 +16,7 @@ impl Viewer {
     pub fn act(&mut self, action: Action, height: u32) -> bool {
         match action {
             Action::Help => {
-                term::say(KEY_HELP);
+                term::say(&key_help());
                 false
             }
             Action::Orbit { dx, dy } => {
@@ -42,7 +42,7 @@ impl Viewer {
                 true
             }
             Action::Shading(ModeKey::Mode(i)) => {
-                self.shading = KEY_MODES.get(i).map(|m| ShadingChoice::Mode(*m));
+                self.shading = ShadingMode::ALL.get(i).map(|m| ShadingChoice::Mode(*m));
                 true
             }
             Action::ToggleLight(n) => {

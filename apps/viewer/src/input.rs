@@ -5,6 +5,7 @@
 //! the resulting [`Action`]s.
 
 use phosphor_math::glam::Vec3;
+use phosphor_raster::ShadingMode;
 use winit::event::MouseButton;
 use winit::keyboard::KeyCode;
 
@@ -21,13 +22,15 @@ const MIN_DISTANCE_RATIO: f32 = 0.05;
 /// See [`MIN_DISTANCE_RATIO`].
 const MAX_DISTANCE_RATIO: f32 = 20.0;
 
-/// The key list printed by `H` (and at start-up).
-pub const KEY_HELP: &str = "\
+/// The key list's lines above the mode keys.
+const KEY_HELP_HEAD: &str = "\
 phosphor-viewer keys:
   left drag            orbit around the target
   right drag, shift+left drag   pan
-  wheel                zoom
-  1 flat  2 gouraud  3 phong  4 fast-phong  5 reference  0 auto (the scene's own shading)
+  wheel                zoom";
+
+/// The key list's lines below the mode keys.
+const KEY_HELP_TAIL: &str = "\
   F1..F8 (or shift+1..8)  toggle light 1..8 (in scene-file order)
   B                    toggle bump mapping
   M                    toggle colour maps (textures)
@@ -43,12 +46,27 @@ phosphor-viewer keys:
   H                    print this list
   Esc, Q               quit";
 
+/// The key list printed by `H` (and at start-up): keys 1, 2, ... pick the modes of
+/// [`ShadingMode::ALL`] in its order, 0 the scene's own shading.
+#[must_use]
+pub fn key_help() -> String {
+    let modes: Vec<String> = ShadingMode::ALL
+        .iter()
+        .enumerate()
+        .map(|(i, m)| format!("{} {m}", i + 1))
+        .collect();
+    format!(
+        "{KEY_HELP_HEAD}\n  {}  0 auto (the scene's own shading)\n{KEY_HELP_TAIL}",
+        modes.join("  ")
+    )
+}
+
 /// Shading choice selected from the keyboard; `Auto` returns to the scene's own shading.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ModeKey {
     /// Key 0: no override, every object uses the shading its scene asks for.
     Auto,
-    /// Keys 1..5: force this mode (index into flat, gouraud, phong, fast-phong, reference).
+    /// Keys 1, 2, ...: force this mode (an index into [`ShadingMode::ALL`]).
     Mode(usize),
 }
 
@@ -125,7 +143,9 @@ pub fn key_action(code: KeyCode, shift: bool) -> Option<Action> {
             (true, 1..=8) => Some(Action::ToggleLight(d - 1)),
             (true, _) => None,
             (false, 0) => Some(Action::Shading(ModeKey::Auto)),
-            (false, 1..=5) => Some(Action::Shading(ModeKey::Mode(d - 1))),
+            (false, d) if d <= ShadingMode::ALL.len() => {
+                Some(Action::Shading(ModeKey::Mode(d - 1)))
+            }
             (false, _) => None,
         };
     }
@@ -399,6 +419,12 @@ mod tests {
         );
         assert_eq!(key_action(KeyCode::F8, false), Some(Action::ToggleLight(7)));
         assert_eq!(key_action(KeyCode::Digit9, false), None);
+        assert_eq!(key_action(KeyCode::Digit6, false), None);
+        // The key list names the modes in key order.
+        let help = key_help();
+        for (i, m) in ShadingMode::ALL.iter().enumerate() {
+            assert!(help.contains(&format!("{} {m}  ", i + 1)), "{help}");
+        }
         assert_eq!(key_action(KeyCode::KeyB, false), Some(Action::ToggleBump));
         assert_eq!(key_action(KeyCode::KeyM, false), Some(Action::ToggleMaps));
         assert_eq!(
@@ -411,10 +437,11 @@ mod tests {
     fn c_prints_the_camera_and_s_saves_a_screenshot_and_both_are_listed() {
         assert_eq!(key_action(KeyCode::KeyC, false), Some(Action::PrintCamera));
         assert_eq!(key_action(KeyCode::KeyS, false), Some(Action::Screenshot));
-        let listed = |key: &str| KEY_HELP.lines().any(|l| l.trim_start().starts_with(key));
-        assert!(listed("C ") && listed("S "), "{KEY_HELP}");
-        assert!(listed("T ") && listed("I "), "{KEY_HELP}");
-        assert!(listed("O ") && listed("V "), "{KEY_HELP}");
+        let help = key_help();
+        let listed = |key: &str| help.lines().any(|l| l.trim_start().starts_with(key));
+        assert!(listed("C ") && listed("S "), "{help}");
+        assert!(listed("T ") && listed("I "), "{help}");
+        assert!(listed("O ") && listed("V "), "{help}");
         assert_eq!(key_action(KeyCode::KeyO, false), Some(Action::ToggleOrtho));
         assert_eq!(key_action(KeyCode::KeyV, false), Some(Action::NextView));
         assert_eq!(

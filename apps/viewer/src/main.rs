@@ -30,7 +30,7 @@ use phosphor_raster::Antialias;
 use phosphor_scene::{Scene, ShadingChoice};
 
 use crate::args::Args;
-use crate::input::KEY_HELP;
+use crate::input::key_help;
 use crate::viewer::{DEFAULT_STILL_ANTIALIAS, Viewer, bytes_per_pixel};
 use crate::window::{WindowError, WindowOptions};
 
@@ -71,7 +71,7 @@ fn fail(message: &str) -> ExitCode {
 
 fn main() -> ExitCode {
     // Usage errors: one line naming the flag, exit 2; --help and --version: stdout, exit 0.
-    let args = term::parse_or_exit(Args::try_parse(), &Args::command());
+    let args = phosphor_args::usage::parse_or_exit(Args::try_parse(), &Args::command());
     let usage = |e: String| {
         term::tell(&format!("error: {e}"));
         ExitCode::from(2)
@@ -142,7 +142,7 @@ fn main() -> ExitCode {
         viewer.antialias = Antialias::Off;
     }
     if args.frames.is_none() {
-        term::say(KEY_HELP);
+        term::say(&key_help());
     }
     let options = WindowOptions {
         size,

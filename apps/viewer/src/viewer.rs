@@ -10,7 +10,6 @@ use phosphor_output::image::{Transfer, write_png};
 use phosphor_raster::encode::Encoder;
 use phosphor_raster::{
     Antialias, Camera, Encoding, FastPhongMethod, Framebuffer, Interpolation, Projection,
-    ShadingMode,
 };
 use phosphor_scene::preset::ViewPreset;
 use phosphor_scene::view::camera_toml;
@@ -43,15 +42,6 @@ pub fn bytes_per_pixel(aa: Antialias) -> u64 {
     };
     WINDOW_BYTES_PER_PIXEL + SAMPLE_BYTES * samples
 }
-
-/// The modes behind keys 1..5, in key order.
-pub const KEY_MODES: [ShadingMode; 5] = [
-    ShadingMode::Flat,
-    ShadingMode::Gouraud,
-    ShadingMode::Phong,
-    ShadingMode::FastPhong,
-    ShadingMode::Reference,
-];
 
 /// The scene renderer behind the window: the scene, the orbit camera, the toggles, and the
 /// framebuffer reused from frame to frame.

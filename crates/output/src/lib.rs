@@ -7,7 +7,7 @@
 //! - [`image`]: PNG tagged with its transfer curve (sRGB, or linear with a gamma of 1.0) and
 //!   linear OpenEXR, encoded row by row into such a file.
 //! - [`term`]: stdout and stderr lines whose failure ends the process with status 1, warnings
-//!   cut to one short line, clap usage errors as one line naming the flag.
+//!   cut to one short line, control characters shown rather than obeyed.
 //! - [`temp`]: temporary names that fit wherever the target's name fits, and the removal of
 //!   those a killed writer left.
 //! - [`memory`]: how much memory is left, to refuse an image that would not fit before it is

@@ -5,7 +5,6 @@
 //! with `phong`); `flat` and `gouraud` ignore it (counted in `RenderStats::bump_ignored`).
 
 use std::f32::consts::TAU;
-use std::path::Path;
 
 use glam::{Vec2, Vec3, Vec4};
 use phosphor_math::safe_normalize;
@@ -45,48 +44,36 @@ pub enum BumpMap {
 }
 
 impl BumpMap {
-    /// Loads a height field from an image file (luminance, any format the `image` crate
-    /// reads with the enabled features). Errors name the file.
-    pub fn from_image(path: &Path, scale: f32) -> Result<BumpMap, RasterError> {
-        let bytes = std::fs::read(path).map_err(|e| RasterError::Io {
-            path: path.to_path_buf(),
-            what: e.to_string(),
-        })?;
-        BumpMap::from_image_bytes(&bytes, path, scale)
-    }
-
-    /// [`BumpMap::from_image`] from the file's bytes, read by the caller (a scene reads every
-    /// file it names as a regular file, without blocking: `phosphor_mesh::open`); `path`
-    /// names it in errors and tells the format where the bytes do not.
-    pub fn from_image_bytes(bytes: &[u8], path: &Path, scale: f32) -> Result<BumpMap, RasterError> {
+    /// A height field from raw texels: `heights` row-major, `width * height` of them, row 0 at
+    /// v = 0 (as [`BumpMap::Image`]). Non-finite heights become 0. Decoding an image file into
+    /// heights is the caller's (`phosphor-scene` reads the bump maps a scene names).
+    ///
+    /// # Errors
+    /// A non-finite `scale`, an empty field, or a texel count other than `width * height`.
+    pub fn from_heights(
+        mut heights: Vec<f32>,
+        width: u32,
+        height: u32,
+        scale: f32,
+    ) -> Result<BumpMap, RasterError> {
         if !scale.is_finite() {
+            return Err(RasterError::BadBump(format!("scale {scale} is not finite")));
+        }
+        if width == 0 || height == 0 {
             return Err(RasterError::BadBump(format!(
-                "{}: scale {scale} is not finite",
-                path.display()
+                "empty height field ({width}x{height})"
             )));
         }
-        let io = |e: image::ImageError| RasterError::Io {
-            path: path.to_path_buf(),
-            what: e.to_string(),
-        };
-        let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes));
-        match image::ImageFormat::from_path(path) {
-            Ok(format) => reader.set_format(format),
-            Err(_) => reader = reader.with_guessed_format().map_err(|e| io(e.into()))?,
+        if heights.len() as u64 != u64::from(width) * u64::from(height) {
+            return Err(RasterError::BadBump(format!(
+                "{} heights for {width}x{height} texels",
+                heights.len()
+            )));
         }
-        let img = reader.decode().map_err(io)?;
-        let luma = img.to_luma32f();
-        let (width, height) = luma.dimensions();
-        let heights: Vec<f32> = luma
-            .into_raw()
-            .into_iter()
-            .map(|h| if h.is_finite() { h } else { 0.0 })
-            .collect();
-        if width == 0 || height == 0 {
-            return Err(RasterError::Io {
-                path: path.to_path_buf(),
-                what: "empty image".into(),
-            });
+        for h in &mut heights {
+            if !h.is_finite() {
+                *h = 0.0;
+            }
         }
         Ok(BumpMap::Image {
             heights,
@@ -217,8 +204,20 @@ mod tests {
     }
 
     #[test]
-    fn missing_image_error_names_the_file() {
-        let e = BumpMap::from_image(Path::new("/no/such/bump.png"), 1.0).unwrap_err();
-        assert!(e.to_string().contains("/no/such/bump.png"));
+    fn raw_heights_are_checked_and_cleaned() {
+        let map = BumpMap::from_heights(vec![0.5, f32::NAN, f32::INFINITY, 1.0], 2, 2, 2.0);
+        assert_eq!(
+            map.unwrap(),
+            BumpMap::Image {
+                heights: vec![0.5, 0.0, 0.0, 1.0],
+                width: 2,
+                height: 2,
+                scale: 2.0,
+            }
+        );
+        let err = |r: Result<BumpMap, RasterError>| r.unwrap_err().to_string();
+        assert!(err(BumpMap::from_heights(vec![0.0], 1, 1, f32::NAN)).contains("scale NaN"));
+        assert!(err(BumpMap::from_heights(vec![], 0, 1, 1.0)).contains("empty"));
+        assert!(err(BumpMap::from_heights(vec![0.0; 3], 2, 2, 1.0)).contains("3 heights"));
     }
 }

@@ -1,12 +1,10 @@
 //! The framebuffer: linear f32 RGB clamped to `[0, 1]` plus a depth buffer, and its encodings.
 
-use std::path::{Path, PathBuf};
-
 use glam::Vec3;
 
 use crate::encode::{Encoder, Encoding};
 
-/// Errors of the raster crate; each names the file or the value at fault.
+/// Errors of the raster crate; each names the value at fault.
 #[derive(Debug, thiserror::Error)]
 pub enum RasterError {
     /// A framebuffer of zero (or absurd) size was asked for.
@@ -18,14 +16,6 @@ pub enum RasterError {
         height: u32,
         /// Why it was refused.
         what: &'static str,
-    },
-    /// Writing or reading an image file failed.
-    #[error("{}: {what}", path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// What went wrong.
-        what: String,
     },
     /// A bump-map parameter is unusable.
     #[error("bump map: {0}")]
@@ -235,58 +225,6 @@ impl Framebuffer {
         }
         out
     }
-
-    /// Saves an 8-bit PNG atomically (temporary file in the same folder, then rename).
-    pub fn save_png(&self, path: &Path, encoding: Encoding) -> Result<(), RasterError> {
-        let img = image::RgbImage::from_raw(self.width, self.height, self.to_rgb8(encoding));
-        let img = img.ok_or_else(|| io_error(path, "image buffer size mismatch".into()))?;
-        save_atomic(path, |tmp| {
-            img.save_with_format(tmp, image::ImageFormat::Png)
-                .map_err(|e| e.to_string())
-        })
-    }
-
-    /// Saves the linear f32 intensities as OpenEXR, atomically.
-    pub fn save_exr(&self, path: &Path) -> Result<(), RasterError> {
-        let data: Vec<f32> = self.color.iter().flat_map(|c| c.to_array()).collect();
-        let img = image::Rgb32FImage::from_raw(self.width, self.height, data);
-        let img = img.ok_or_else(|| io_error(path, "image buffer size mismatch".into()))?;
-        save_atomic(path, |tmp| {
-            image::DynamicImage::ImageRgb32F(img)
-                .save_with_format(tmp, image::ImageFormat::OpenExr)
-                .map_err(|e| e.to_string())
-        })
-    }
-}
-
-fn io_error(path: &Path, what: String) -> RasterError {
-    RasterError::Io {
-        path: path.to_path_buf(),
-        what,
-    }
-}
-
-/// Writes through `write` to a temporary sibling of `path`, then renames it over `path`, so a
-/// failure never leaves a truncated or replaced file.
-fn save_atomic(
-    path: &Path,
-    write: impl FnOnce(&Path) -> Result<(), String>,
-) -> Result<(), RasterError> {
-    let name = path
-        .file_name()
-        .ok_or_else(|| io_error(path, "not a file name".into()))?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".tmp-{}", std::process::id()));
-    let tmp = path.with_file_name(tmp_name);
-    if let Err(what) = write(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(io_error(path, what));
-    }
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io_error(path, e.to_string())
-    })
 }
 
 /// Whether `clean` holds exactly the colour `bg` (bit for bit: a clear to a different colour,
@@ -438,23 +376,5 @@ mod tests {
             fb.write_0rgb_threads(&mut out, threads);
             assert_eq!(out, expected, "{threads} threads");
         }
-    }
-
-    #[test]
-    fn save_errors_name_the_file_and_leave_nothing() {
-        let fb = Framebuffer::new(2, 2).unwrap();
-        let path = Path::new("/nonexistent-dir-phosphor/x.png");
-        let err = fb.save_png(path, Encoding::Srgb).unwrap_err().to_string();
-        assert!(err.contains("/nonexistent-dir-phosphor/x.png"), "{err}");
-        let dir = std::env::temp_dir().join(format!("phosphor-fb-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        fb.save_png(&dir.join("a.png"), Encoding::Srgb).unwrap();
-        fb.save_exr(&dir.join("a.exr")).unwrap();
-        let names: Vec<_> = std::fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().file_name())
-            .collect();
-        assert_eq!(names.len(), 2, "{names:?}");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -324,10 +324,7 @@ pub const fn interpolated<S: Shader>() -> usize {
 #[inline(always)]
 #[must_use]
 pub fn uv_derivatives<S: Shader, L: Lanes>(v: &Varyings<L>) -> [L; 4] {
-    let k = match S::GRADIENTS {
-        Some(k) => k,
-        None => 0,
-    };
+    let k: usize = S::GRADIENTS.unwrap_or_default();
     let g = S::VARYINGS;
     let (u, vv) = (v[k], v[k + 1]);
     [

@@ -395,7 +395,7 @@ mod tests {
     fn checker(n: u32) -> Texture {
         let texels = (0..n * n)
             .map(|k| {
-                if (k % n + k / n) % 2 == 0 {
+                if (k % n + k / n).is_multiple_of(2) {
                     Vec3::ONE
                 } else {
                     Vec3::ZERO

@@ -22,7 +22,7 @@ const TILE: f64 = 4.0;
 fn checker() -> Texture {
     let texels = (0..N * N)
         .map(|k| {
-            if ((k % N) / 2 + (k / N) / 2) % 2 == 0 {
+            if ((k % N) / 2 + (k / N) / 2).is_multiple_of(2) {
                 Vec3::ONE
             } else {
                 Vec3::ZERO

@@ -281,8 +281,16 @@ impl FromStr for ShadingChoice {
         s.parse::<ShadingMode>()
             .map(ShadingChoice::Mode)
             .map_err(|_| {
+                let modes: Vec<String> = ShadingMode::ALL
+                    .iter()
+                    .map(|m| format!("\"{m}\""))
+                    .collect();
+                let (last, rest) = modes
+                    .split_last()
+                    .map_or(("", &[][..]), |(l, r)| (l.as_str(), r));
                 format!(
-                    "unknown shading \"{s}\" (expected \"auto\", \"flat\", \"gouraud\", \"phong\", \"fast-phong\" or \"reference\")"
+                    "unknown shading \"{s}\" (expected \"auto\", {} or {last})",
+                    rest.join(", ")
                 )
             })
     }

@@ -182,7 +182,7 @@ fn materials_and_objects_are_checked_by_field() {
     );
     assert_eq!(
         err("[[objects]]\nprimitive = { shape = \"cube\" }\nshading = \"shiny\"\n"),
-        "t.toml: objects[0].shading: unknown shading \"shiny\" (expected \"auto\", \"flat\", \"gouraud\", \"phong\", \"fast-phong\" or \"reference\")"
+        "t.toml: objects[0].shading: unknown shading \"shiny\" (expected \"auto\", \"flat\", \"gouraud\", \"fast-phong\", \"phong\" or \"reference\")"
     );
     assert!(
         err("[[objects]]\nmaterial = \"default\"\n")

@@ -105,6 +105,7 @@ pub fn checkerboard(squares: u32, texels: u32, a: glam::Vec3, b: glam::Vec3) -> 
 }
 
 #[cfg(test)]
+#[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
 

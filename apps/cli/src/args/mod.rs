@@ -15,6 +15,7 @@ use phosphor_args::{
     CameraArgs, INPUT_HEADING, NormalArgs, OUTPUT_HEADING, RENDERING_HEADING, parse_antialias,
 };
 use phosphor_raster::Antialias;
+use phosphor_scene::ShadingChoice;
 
 pub use self::values::*;
 use crate::frames::{FrameRange, parse_frame_range};
@@ -124,8 +125,8 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub source: SceneSource,
     /// Shading mode for every object (overrides the scene file).
-    #[arg(long, help_heading = RENDERING_HEADING, value_enum, value_name = "MODE")]
-    pub shading: Option<ModeArg>,
+    #[arg(long, help_heading = RENDERING_HEADING, value_name = "MODE", value_parser = shading_parser())]
+    pub shading: Option<ShadingChoice>,
     /// Image size (overrides the scene file).
     #[arg(long, help_heading = RENDERING_HEADING, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<Size>,
@@ -228,7 +229,7 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub source: SceneSource,
     /// Mode to time, or `all` (every mode, one line each).
-    #[arg(long, help_heading = MEASURING_HEADING, value_enum, value_name = "MODE|all", default_value = "all")]
+    #[arg(long, help_heading = MEASURING_HEADING, value_name = "MODE|all", default_value = "all", value_parser = bench_mode_parser())]
     pub shading: BenchMode,
     /// Image size (overrides the scene file).
     #[arg(long, help_heading = RENDERING_HEADING, value_name = "WxH", value_parser = parse_size)]

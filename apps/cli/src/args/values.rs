@@ -1,7 +1,10 @@
 //! The values flags take: shading modes, culling, variants, SIMD level, encoding, sizes.
 
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, ValueEnum};
 use phosphor_args::RENDERING_HEADING;
+use phosphor_raster::ShadingMode;
+use phosphor_scene::ShadingChoice;
 
 /// Largest accepted image side, in pixels (a 16k x 16k f32 framebuffer is already 3 GiB).
 pub const MAX_SIDE: u32 = 16_384;
@@ -17,40 +20,81 @@ pub enum CullArg {
     Never,
 }
 
-/// A shading choice on the command line: one of the modes, or `auto`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ModeArg {
-    /// Once per triangle.
-    Flat,
-    /// Per vertex, intensities interpolated.
-    Gouraud,
-    /// Per pixel with interpolated normals.
-    Phong,
-    /// A quadratic per triangle stepped by forward differences (see --fast-phong); else phong.
-    FastPhong,
-    /// Ground truth: per pixel in f64.
-    Reference,
-    /// Per object, the cheapest mode that is good enough.
-    Auto,
+/// What a shading mode does, for `--help`.
+fn mode_help(mode: ShadingMode) -> &'static str {
+    match mode {
+        ShadingMode::Flat => "Once per triangle",
+        ShadingMode::Gouraud => "Per vertex, intensities interpolated",
+        ShadingMode::Phong => "Per pixel with interpolated normals",
+        ShadingMode::FastPhong => {
+            "A quadratic per triangle stepped by forward differences (see --fast-phong); else phong"
+        }
+        ShadingMode::Reference => "Ground truth: per pixel in f64",
+    }
 }
 
-/// Bench's shading choice: one mode, or all of them.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+/// The name of `bench --shading`'s choice of every mode.
+const ALL_NAME: &str = "all";
+
+/// The values of a shading flag: every mode of [`ShadingMode::ALL`] in its order, then
+/// `auto`, then `extra`.
+fn shading_values(extra: Option<PossibleValue>) -> Vec<PossibleValue> {
+    ShadingMode::ALL
+        .into_iter()
+        .map(|m| PossibleValue::new(m.name()).help(mode_help(m)))
+        .chain([PossibleValue::new(ShadingChoice::Auto.name())
+            .help("Per object, the cheapest mode that is good enough")])
+        .chain(extra)
+        .collect()
+}
+
+/// The shading choice named `name`, one of [`shading_values`]'s (else `auto`).
+fn named_choice(name: &str) -> ShadingChoice {
+    ShadingMode::ALL
+        .into_iter()
+        .find(|m| m.name() == name)
+        .map_or(ShadingChoice::Auto, ShadingChoice::Mode)
+}
+
+/// The parser of `--shading`: one of the modes, or `auto`.
+pub fn shading_parser() -> impl TypedValueParser<Value = ShadingChoice> {
+    PossibleValuesParser::new(shading_values(None)).map(|s| named_choice(&s))
+}
+
+/// Bench's shading choice: one mode (or `auto`), or all of them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BenchMode {
-    /// Once per triangle.
-    Flat,
-    /// Per vertex, intensities interpolated.
-    Gouraud,
-    /// Per pixel with interpolated normals.
-    Phong,
-    /// A quadratic per triangle stepped by forward differences (see --fast-phong); else phong.
-    FastPhong,
-    /// Ground truth: per pixel in f64.
-    Reference,
-    /// Per object, the cheapest mode that is good enough.
-    Auto,
-    /// Every mode above, one line each.
+    /// One choice.
+    One(ShadingChoice),
+    /// Every mode of [`ShadingMode::ALL`], then `auto`, one line each.
     All,
+}
+
+impl BenchMode {
+    /// The choices timed, in order.
+    #[must_use]
+    pub fn choices(self) -> Vec<ShadingChoice> {
+        match self {
+            BenchMode::One(choice) => vec![choice],
+            BenchMode::All => ShadingMode::ALL
+                .into_iter()
+                .map(ShadingChoice::Mode)
+                .chain([ShadingChoice::Auto])
+                .collect(),
+        }
+    }
+}
+
+/// The parser of `bench --shading`: one of the modes, `auto`, or `all`.
+pub fn bench_mode_parser() -> impl TypedValueParser<Value = BenchMode> {
+    let all = PossibleValue::new(ALL_NAME).help("Every mode above, one line each");
+    PossibleValuesParser::new(shading_values(Some(all))).map(|s| {
+        if s == ALL_NAME {
+            BenchMode::All
+        } else {
+            BenchMode::One(named_choice(&s))
+        }
+    })
 }
 
 /// How fast-phong makes its quadratic (`--fast-phong`).

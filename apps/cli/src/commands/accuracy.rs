@@ -78,60 +78,88 @@ const fn fixed(label: &'static str, mode: ShadingMode, correct: bool) -> Row {
     }
 }
 
-/// The rows in table order (the reference last, though it renders first).
-const ROWS: [Row; 12] = [
-    fixed("flat", ShadingMode::Flat, true),
-    fixed("gouraud", ShadingMode::Gouraud, true),
-    Row {
-        file: "gouraud-unclamped",
-        gouraud_clamp: Some(false),
-        ..fixed("gouraud (unclamped)", ShadingMode::Gouraud, true)
-    },
-    Row {
-        file: "gouraud-screen-space",
-        ..fixed("gouraud (screen-space)", ShadingMode::Gouraud, false)
-    },
-    Row {
-        file: "gouraud-incremental",
-        interpolation: Some(Interpolation::Incremental),
-        ..fixed("gouraud (incremental)", ShadingMode::Gouraud, true)
-    },
-    Row {
-        file: "fast-phong-taylor",
-        ..fixed("fast-phong (taylor)", ShadingMode::FastPhong, true)
-    },
-    Row {
-        file: "fast-phong-fit",
-        fast_phong: Some(FastPhongMethod::Fit),
-        ..fixed("fast-phong (fit)", ShadingMode::FastPhong, true)
-    },
-    fixed("phong", ShadingMode::Phong, true),
-    Row {
-        file: "phong-screen-space",
-        ..fixed("phong (screen-space)", ShadingMode::Phong, false)
-    },
-    Row {
-        file: "phong-incremental",
-        interpolation: Some(Interpolation::Incremental),
-        ..fixed("phong (incremental)", ShadingMode::Phong, true)
-    },
-    Row {
-        label: "auto",
-        file: "auto",
-        shading: ShadingChoice::Auto,
-        perspective_correct: None,
-        fast_phong: None,
-        interpolation: None,
-        gouraud_clamp: None,
-    },
-    fixed("reference", ShadingMode::Reference, true),
-];
+/// The reference's row: what every other row is compared with.
+const REFERENCE_ROW: Row = fixed(ShadingMode::Reference.name(), ShadingMode::Reference, true);
+
+/// The row of `auto`: the plan's choice per object, the scene's own variants.
+const AUTO_ROW: Row = Row {
+    label: "auto",
+    file: "auto",
+    shading: ShadingChoice::Auto,
+    perspective_correct: None,
+    fast_phong: None,
+    interpolation: None,
+    gouraud_clamp: None,
+};
+
+/// The rows of one mode: the mode itself (fast-phong: each method), then its variants.
+fn mode_rows(mode: ShadingMode) -> Vec<Row> {
+    let plain = fixed(mode.name(), mode, true);
+    match mode {
+        ShadingMode::Flat => vec![plain],
+        ShadingMode::Reference => vec![REFERENCE_ROW],
+        ShadingMode::Gouraud => vec![
+            plain,
+            Row {
+                file: "gouraud-unclamped",
+                gouraud_clamp: Some(false),
+                ..fixed("gouraud (unclamped)", mode, true)
+            },
+            Row {
+                file: "gouraud-screen-space",
+                ..fixed("gouraud (screen-space)", mode, false)
+            },
+            Row {
+                file: "gouraud-incremental",
+                interpolation: Some(Interpolation::Incremental),
+                ..fixed("gouraud (incremental)", mode, true)
+            },
+        ],
+        ShadingMode::FastPhong => vec![
+            Row {
+                file: "fast-phong-taylor",
+                ..fixed("fast-phong (taylor)", mode, true)
+            },
+            Row {
+                file: "fast-phong-fit",
+                fast_phong: Some(FastPhongMethod::Fit),
+                ..fixed("fast-phong (fit)", mode, true)
+            },
+        ],
+        ShadingMode::Phong => vec![
+            plain,
+            Row {
+                file: "phong-screen-space",
+                ..fixed("phong (screen-space)", mode, false)
+            },
+            Row {
+                file: "phong-incremental",
+                interpolation: Some(Interpolation::Incremental),
+                ..fixed("phong (incremental)", mode, true)
+            },
+        ],
+    }
+}
+
+/// Every row in table order: the modes of [`ShadingMode::ALL`] in its order, `auto`, and the
+/// reference last (though it renders first).
+fn all_rows() -> Vec<Row> {
+    let mut rows: Vec<Row> = ShadingMode::ALL
+        .into_iter()
+        .filter(|&m| m != ShadingMode::Reference)
+        .flat_map(mode_rows)
+        .collect();
+    rows.push(AUTO_ROW);
+    rows.extend(mode_rows(ShadingMode::Reference));
+    rows
+}
 
 /// The rows `--fast-phong` and `--interpolation` keep: a row forcing another variant of a mode
 /// the flag names is left out; `auto` takes the flags as overrides.
 fn rows(args: &AccuracyArgs) -> Vec<Row> {
     let (fast, interp) = (args.variants.fast_phong(), args.variants.interpolation());
-    ROWS.into_iter()
+    all_rows()
+        .into_iter()
         .filter(|r| {
             let uses_fast = r.mode() == Some(ShadingMode::FastPhong);
             let uses_interp = matches!(r.mode(), Some(ShadingMode::Gouraud | ShadingMode::Phong));
@@ -403,7 +431,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     progress.show_after(QUIET_FOR);
 
     // The reference first: its untimed frame is what every mode is compared with.
-    let reference_row = ROWS[ROWS.len() - 1];
+    let reference_row = REFERENCE_ROW;
     let (reference, first_time, reference_pixels) = render_image(&scene, &mut fb, reference_row);
     frames.tick();
     save(&fb, reference_row)?;
@@ -555,23 +583,24 @@ mod tests {
 
     #[test]
     fn rows_cover_every_mode_once_with_distinct_files_and_reference_last() {
+        let rows = all_rows();
         for mode in ShadingMode::ALL {
             assert!(
-                ROWS.iter().any(|r| r.shading == ShadingChoice::Mode(mode)
+                rows.iter().any(|r| r.shading == ShadingChoice::Mode(mode)
                     && (r.label == mode.name() || r.label.starts_with(mode.name()))),
                 "{mode:?}"
             );
         }
-        let mut files: Vec<&str> = ROWS.iter().map(|r| r.file).collect();
+        let mut files: Vec<&str> = rows.iter().map(|r| r.file).collect();
         files.sort_unstable();
         files.dedup();
-        assert_eq!(files.len(), ROWS.len());
-        assert_eq!(ROWS[ROWS.len() - 1].label, "reference");
-        assert!(ROWS.iter().any(|r| r.shading == ShadingChoice::Auto));
+        assert_eq!(files.len(), rows.len());
+        assert_eq!(rows[rows.len() - 1].label, "reference");
+        assert!(rows.iter().any(|r| r.shading == ShadingChoice::Auto));
         // Every variant of fast-phong and of the interpolation has a row.
         for method in FastPhongMethod::ALL {
             assert!(
-                ROWS.iter()
+                rows.iter()
                     .any(|r| r.fast_phong == Some(method)
                         && r.mode() == Some(ShadingMode::FastPhong))
             );
@@ -579,7 +608,7 @@ mod tests {
         for mode in [ShadingMode::Gouraud, ShadingMode::Phong] {
             for interpolation in Interpolation::ALL {
                 assert!(
-                    ROWS.iter()
+                    rows.iter()
                         .any(|r| r.mode() == Some(mode) && r.interpolation == Some(interpolation))
                 );
             }

@@ -4,31 +4,13 @@
 
 use std::time::Instant;
 
-use phosphor_raster::ShadingMode;
-use phosphor_scene::{FrameOptions, ShadingChoice, render_frame};
+use phosphor_scene::{FrameOptions, render_frame};
 
 use super::{framebuffer, size_field};
 use crate::CliError;
 use crate::accuracy::median;
-use crate::args::{BenchArgs, BenchMode};
+use crate::args::BenchArgs;
 use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_pixel, threads};
-
-fn choices(mode: BenchMode) -> Vec<ShadingChoice> {
-    let m = ShadingChoice::Mode;
-    match mode {
-        BenchMode::Flat => vec![m(ShadingMode::Flat)],
-        BenchMode::Gouraud => vec![m(ShadingMode::Gouraud)],
-        BenchMode::Phong => vec![m(ShadingMode::Phong)],
-        BenchMode::FastPhong => vec![m(ShadingMode::FastPhong)],
-        BenchMode::Reference => vec![m(ShadingMode::Reference)],
-        BenchMode::Auto => vec![ShadingChoice::Auto],
-        BenchMode::All => ShadingMode::ALL
-            .into_iter()
-            .map(m)
-            .chain([ShadingChoice::Auto])
-            .collect(),
-    }
-}
 
 /// Runs `phosphor bench`.
 pub fn run(args: &BenchArgs) -> Result<(), CliError> {
@@ -41,7 +23,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
     let mut fb = framebuffer(width, height)?;
     let threads = threads(args.threads);
     let simd = args.simd.simd().map_err(CliError::Usage)?;
-    for choice in choices(args.shading) {
+    for choice in args.shading.choices() {
         let opts = FrameOptions {
             shading: Some(choice),
             threads,

@@ -8,7 +8,7 @@ use phosphor_raster::{Antialias, Encoding};
 use phosphor_scene::view::turntable_camera;
 use phosphor_scene::{FrameOptions, render_frame};
 
-use super::{framebuffer, shading_choice, size_field};
+use super::{framebuffer, size_field};
 use crate::CliError;
 use crate::args::{EncodingArg, RenderArgs};
 use crate::folders::{make_missing, missing_folders, remove_empty};
@@ -69,7 +69,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     )?;
     let simd = args.simd.simd().map_err(CliError::Usage)?;
     let opts = FrameOptions {
-        shading: args.shading.map(shading_choice),
+        shading: args.shading,
         threads: threads(args.threads),
         fast_phong: args.variants.fast_phong(),
         interpolation: args.variants.interpolation(),

@@ -197,7 +197,20 @@ pub fn maybe_write_doc(fb: &Framebuffer, name: &str) {
     if std::env::var_os("PHOSPHOR_WRITE_DOCS").is_some() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../docs");
         std::fs::create_dir_all(&dir).unwrap();
-        fb.save_png(&dir.join(name), crate::Encoding::Linear)
-            .unwrap(); // S1 is linear-encoded
+        // S1 is linear-encoded; the PNG says so, as `phosphor render --encoding linear` does.
+        let rgb = fb.to_rgb8(crate::Encoding::Linear);
+        let stride = fb.width() as usize * 3;
+        let mut row = |y: u32, out: &mut [u8]| {
+            out.copy_from_slice(&rgb[y as usize * stride..][..stride]);
+        };
+        phosphor_output::image::write_png(
+            &dir.join(name),
+            false,
+            (fb.width(), fb.height()),
+            phosphor_output::image::Transfer::Linear,
+            &mut row,
+            &mut |_| {},
+        )
+        .unwrap();
     }
 }

@@ -813,8 +813,8 @@ fn object(
                                 format!("{}: cannot read: {e}", resolved.display()),
                             )
                         })?;
-                        BumpMap::from_image_bytes(&bytes, resolved, *scale)
-                            .map_err(|e| SceneError::field(o.file(), field(), e.to_string()))?
+                        super::bump_image::decode(&bytes, resolved, *scale)
+                            .map_err(|e| SceneError::field(o.file(), field(), e))?
                     }
                 });
                 bumps.insert(key, map.clone());
@@ -836,6 +836,9 @@ fn object(
     Ok(())
 }
 
+/// Reads a map's encoded bytes when it is first needed.
+type ReadBytes<'a> = Box<dyn Fn() -> std::io::Result<Arc<[u8]>> + 'a>;
+
 /// The colour map of an object: its scene material's `kd_map`, else the one map every
 /// material of its mesh names (MTL `map_Kd`, glTF `baseColorTexture`), decoded once per
 /// image. A map that cannot be used is one warning naming the material, the map and the
@@ -849,12 +852,8 @@ fn color_map(
     files: &dyn Files,
     maps: &mut BTreeMap<String, Option<Arc<Texture>>>,
 ) -> Option<Arc<Texture>> {
-    let (what, key, wrap, read): (
-        String,
-        String,
-        _,
-        Box<dyn Fn() -> std::io::Result<Arc<[u8]>>>,
-    ) = if let Some(src) = &def.kd_map {
+    let (what, key, wrap, read): (String, String, _, ReadBytes<'_>) = if let Some(src) = &def.kd_map
+    {
         match src {
             MapSource::File { written, resolved } => {
                 let resolved = resolved.clone();
@@ -866,9 +865,7 @@ fn color_map(
                 )
             }
             MapSource::Checker { squares } => {
-                if mesh.mesh.uvs.is_none() {
-                    return None;
-                }
+                mesh.mesh.uvs.as_ref()?;
                 let key = format!("checker:{squares}");
                 let map = maps.entry(key).or_insert_with(|| {
                     Some(Arc::new(checkerboard(
