@@ -27,8 +27,8 @@ use phosphor::lighting::{Attenuation, Effects, Light, LightKind, LightSet, Mater
 use phosphor::math::glam::{Mat4, Vec3};
 use phosphor::mesh::{Mesh, NormalOptions, load_obj, primitives};
 use phosphor::raster::{
-    Camera, DrawItem, Framebuffer, MeshView, RenderOptions, RenderStats, ShadingMode, render,
-    render_fill_only,
+    Camera, DrawItem, Framebuffer, MeshView, RenderOptions, RenderStats, ShadingMode, Texture,
+    render, render_fill_only,
 };
 
 /// The headline size of S1 (docs/conventions.md).
@@ -44,6 +44,8 @@ struct Scene {
     material: Material,
     lights: LightSet,
     effects: Effects,
+    /// A colour map, drawn with the mesh's uvs (the `textured` group).
+    texture: Option<Texture>,
 }
 
 impl Scene {
@@ -60,6 +62,7 @@ impl Scene {
             material,
             lights,
             effects,
+            texture: None,
         }
     }
 
@@ -69,7 +72,7 @@ impl Scene {
             mesh: MeshView {
                 positions: &m.positions,
                 normals: &m.normals,
-                uvs: None,
+                uvs: self.texture.as_ref().and(m.uvs.as_deref()),
                 tangents: None,
                 colors: None,
                 indices: &m.indices,
@@ -80,7 +83,7 @@ impl Scene {
             effects: self.effects,
             mode,
             bump: None,
-            texture: None,
+            texture: self.texture.as_ref(),
             cull_backfaces: false,
         }
     }
@@ -279,6 +282,42 @@ fn s1_modes(c: &mut Criterion) {
     }
 }
 
+/// What a colour map costs: the S1 sphere at 1920x1080 on two threads in each mode, plain and
+/// with a 512x512 checkerboard (16 repeats around, trilinear), the texture sampled per pixel.
+fn textured(c: &mut Criterion) {
+    let settings = Settings::from_env();
+    let n = 512u32;
+    let texels = (0..n * n)
+        .map(|k| {
+            if ((k % n) / 32 + (k / n) / 32).is_multiple_of(2) {
+                Vec3::ONE
+            } else {
+                Vec3::splat(0.2)
+            }
+        })
+        .collect();
+    let checker = Texture::new(n, n, texels).unwrap();
+    let plain = Scene::s1(sphere(BUNNY_TRIANGLES));
+    let mapped = Scene {
+        texture: Some(checker),
+        ..Scene::s1(sphere(BUNNY_TRIANGLES))
+    };
+    let mut g = settings.group(c, "textured");
+    for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
+        for (tag, scene) in [("plain", &plain), ("textured", &mapped)] {
+            settings.samples(&mut g, false);
+            let frame = Frame {
+                scene,
+                pass: Pass::Shade(mode),
+                size: FULL_HD,
+                threads: two_threads(),
+            };
+            bench_frame(&mut g, BenchmarkId::new(mode.name(), tag), frame);
+        }
+    }
+    g.finish();
+}
+
 /// The sphere at about 1k, 10k, 100k and 1M triangles, 1280x720.
 fn growth_triangles(c: &mut Criterion) {
     let settings = Settings::from_env();
@@ -422,6 +461,7 @@ criterion_group!(
     growth_triangles,
     growth_pixels,
     threads,
-    plan_gain
+    plan_gain,
+    textured
 );
 criterion_main!(benches);

@@ -5,7 +5,7 @@
 //! `../../../../etc/passwd` or `~/.ssh/id_ed25519` through a planted symbolic link, and show
 //! their bytes as a triangle's bounds. So a relative URI is resolved against the folder of
 //! the glTF file, `..` steps and symbolic links followed, and the file it reaches must lie in
-//! that folder or below ([`confine_uri`]). Absolute paths and URIs with a scheme are refused
+//! that folder or below (`confine_uri`). Absolute paths and URIs with a scheme are refused
 //! before this (see the glTF reader). A folder tree that links to shared assets elsewhere can
 //! still be read: an application lets it with [`allow_outside_assets`] (`phosphor
 //! --allow-outside-assets`).
@@ -81,7 +81,7 @@ pub(crate) fn confine_uri(gltf: &Path, uri: &str, allow_outside: bool) -> Result
 }
 
 /// The file `rel` (a relative URI, `%`-escapes decoded) that the mesh file `mesh` names:
-/// confined to the mesh's folder unless [`allow_outside_assets`] is on ([`confine_uri`]). The
+/// confined to the mesh's folder unless [`allow_outside_assets`] is on (`confine_uri`). The
 /// one place a glTF file's buffer and image URIs become paths: a buffer is then read by
 /// [`read_asset`], an image later through
 /// [`TextureSource::bytes`](crate::texture_ref::TextureSource::bytes).

@@ -39,14 +39,28 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     if let Output::Files(pattern) = &output {
         // A missing folder is made only when the frame is written (crate::folders).
         let first = pattern.path(frames.start);
-        let missing = !missing_folders(&first)?.is_empty();
-        if pattern.is_numbered() || missing {
+        let missing = missing_folders(&first)?;
+        if pattern.is_numbered() || !missing.is_empty() {
             format_of(pattern.given())?;
         }
-        // The first file stands for the folder: unwritable or not a real one is refused now,
-        // not after the first frame is drawn (a missing one is made then).
-        if !missing {
-            check_output(&first, args.force)?;
+        // The first file stands for its folder, refused now (unwritable, not a real one) and
+        // not after the first frame is drawn. A missing folder is made then, so the nearest
+        // folder that exists above it must take a file.
+        match (missing.first(), first.file_name()) {
+            (Some(top), Some(name)) => {
+                let existing = top.parent().unwrap_or(top);
+                if check_output(&existing.join(name), args.force).is_err() {
+                    return Err(CliError::Input(format!(
+                        "{}: cannot make folder {}: {} takes no new entry",
+                        first.display(),
+                        top.display(),
+                        existing.display()
+                    )));
+                }
+            }
+            _ => {
+                check_output(&first, args.force)?;
+            }
         }
         if args.plan && is_stdout(&pattern.path(frames.start)) {
             return Err(CliError::Usage(format!(
