@@ -23,7 +23,8 @@ pub enum MapSource {
     },
     /// A checkerboard made here: `kd_map = { procedural = "checker", squares = 8 }`, white
     /// and a dark grey (linear 0.25), `squares` squares along each side of the `[0, 1]` uv
-    /// square, 16 texels each.
+    /// square, each 64 texels wide (fewer past 32 squares, so the image stays within 2048
+    /// texels a side).
     Checker {
         /// Squares along a side.
         squares: u32,

@@ -870,7 +870,7 @@ fn color_map(
                 let map = maps.entry(key).or_insert_with(|| {
                     Some(Arc::new(checkerboard(
                         *squares,
-                        16,
+                        (2048 / *squares).clamp(8, 64),
                         Vec3::ONE,
                         Vec3::splat(0.25),
                     )))
