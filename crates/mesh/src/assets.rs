@@ -114,8 +114,8 @@ mod tests {
         assert!(e.contains("outside the glTF file's folder"), "{e}");
         assert!(confine_uri(gltf, "sub/../../a.bin", false).is_err());
         assert_eq!(
-            confine_uri(gltf, "../shared.bin", true),
-            Ok(PathBuf::from("assets/meshes/../shared.bin"))
+            confine_uri(gltf, "../common.bin", true),
+            Ok(PathBuf::from("assets/meshes/../common.bin"))
         );
         assert!(confine_uri(gltf, "/etc/passwd", true).is_err());
         // Inside, through `..` that stays inside: accepted (missing, so unresolved).

@@ -37,7 +37,7 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
-    /// Let a glTF file's buffers and images lie outside its own folder (`../shared.bin`, or a
+    /// Let a glTF file's buffers and images lie outside its own folder (`../common.bin`, or a
     /// symbolic link out of it); by default such a buffer is not read and such an image not
     /// used.
     #[arg(long, global = true)]
