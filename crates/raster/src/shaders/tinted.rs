@@ -68,14 +68,9 @@ impl<const FX: u32> Shader for FlatColored<'_, FX> {
     }
     #[inline(always)]
     fn constant<L: Lanes>(&self, t: &TriangleLanes<L>) -> Vec3s<L> {
-        let [a, b, c] = t.corners.map(|c| c.position);
-        let like = a.x;
-        let third = like.splat(1.0 / 3.0);
+        let (centroid, n) = super::flat::facet(t);
+        let third = centroid.x.splat(1.0 / 3.0);
         let scale = |v: Vec3s<L>| Vec3s::new(v.x * third, v.y * third, v.z * third);
-        let centroid = scale(a + b + c);
-        let n = (b - a)
-            .cross(c - a)
-            .safe_normalize(Vec3s::broadcast(like, Vec3::ZERO));
         let [ca, cb, cc] = t.corners.map(|c| c.color);
         let lit = &self.lit;
         shade_terms_lanes::<FX, L>(lit.set, &lit.mat, centroid, n, lit.eye)
