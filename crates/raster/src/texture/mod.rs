@@ -30,7 +30,8 @@
 //! ```
 
 use glam::{DVec3, Vec3};
-use phosphor_lighting::{Lanes, Vec3s};
+
+mod fast;
 
 /// Largest side of a texture, in texels (the image crate's and most GPUs' limit).
 pub const MAX_TEXTURE_SIDE: u32 = 16384;
@@ -254,6 +255,26 @@ impl Texture {
         self
     }
 
+    /// The same texture with every texel, in every level, multiplied by `factor` (a
+    /// material's colour factor: glTF's `baseColorFactor`, MTL's `Kd` under `map_Kd`); a
+    /// non-finite or negative factor component is read as 0. The chain stays the mean of the
+    /// level above, since scaling is linear.
+    #[must_use]
+    pub fn tinted(mut self, factor: Vec3) -> Texture {
+        let f = Vec3::select(
+            factor.cmpge(Vec3::ZERO) & factor.is_finite_mask(),
+            factor,
+            Vec3::ZERO,
+        );
+        for level in &mut self.levels {
+            for t in &mut level.texels {
+                *t *= f;
+                *t = Vec3::select(t.is_finite_mask(), *t, Vec3::ZERO);
+            }
+        }
+        self
+    }
+
     /// The same texture with `filter`.
     #[must_use]
     pub fn with_filter(mut self, filter: Filter) -> Texture {
@@ -352,28 +373,6 @@ impl Texture {
                 }
             }
         }
-    }
-
-    /// [`Texture::sample_f64`] rounded to `f32`.
-    #[must_use]
-    pub fn sample(&self, u: f32, v: f32, d: [f32; 4]) -> Vec3 {
-        self.sample_f64(f64::from(u), f64::from(v), d.map(f64::from))
-            .as_vec3()
-    }
-
-    /// [`Texture::sample`] per lane: a pixel stage's lookup.
-    #[inline]
-    #[must_use]
-    pub fn sample_lanes<L: Lanes>(&self, u: L, v: L, d: [L; 4]) -> Vec3s<L> {
-        let like = u;
-        let (u, v) = (u.to_lanes(), v.to_lanes());
-        let d = d.map(Lanes::to_lanes);
-        let (mut r, mut g, mut b) = ([0.0; 8], [0.0; 8], [0.0; 8]);
-        for k in 0..L::N {
-            let c = self.sample(u[k], v[k], [d[0][k], d[1][k], d[2][k], d[3][k]]);
-            (r[k], g[k], b[k]) = (c.x, c.y, c.z);
-        }
-        Vec3s::new(like.with_lanes(r), like.with_lanes(g), like.with_lanes(b))
     }
 }
 
