@@ -8,7 +8,9 @@
 //! cross product in f64 from the analytic derivatives of `h` (not from the renderer's formula)
 //! and compare it with `BumpMap::perturb`, for a height image sampled from a closed-form `h`, for
 //! both built-in procedural fields against the `h` their documentation states, and through a
-//! whole render in `reference` and `phong`.
+//! whole render in `reference` and `phong`. A tangent-space normal map baked from the same
+//! `h` (each texel the unit `(-h_u, -h_v, 1)`, its `x` and `y` scaled by the map's scale when
+//! drawn, as glTF's `normalTexture.scale` does) gives the same normals.
 
 use std::f64::consts::TAU;
 
@@ -56,6 +58,23 @@ fn height_image(w: u32, h: u32, scale: f32) -> BumpMap {
     }
 }
 
+/// The unit normals `(-h_u, -h_v, 1)` of [`height`] at the texel centres, row 0 at v = 0,
+/// drawn with `scale`.
+fn normal_image(w: u32, h: u32, scale: f32) -> BumpMap {
+    let normals = (0..h)
+        .flat_map(|j| {
+            (0..w).map(move |i| {
+                let (h_u, h_v) = height_gradient(
+                    (f64::from(i) + 0.5) / f64::from(w),
+                    (f64::from(j) + 0.5) / f64::from(h),
+                );
+                DVec3::new(-h_u, -h_v, 1.0).normalize().as_vec3()
+            })
+        })
+        .collect();
+    BumpMap::from_normals(normals, w, h, scale).expect("a valid map")
+}
+
 /// The normal of the displaced surface `P = u T + v B + s h N` (f64 cross product of its
 /// partial derivatives), turned to `N`'s side. `b` is the bitangent the tangent's handedness
 /// gives, `w (N x T)`.
@@ -88,7 +107,19 @@ fn sample_uvs() -> impl Iterator<Item = (f64, f64)> {
 #[test]
 fn image_bump_on_a_plane_matches_the_displaced_surface_normal() {
     let scale = 1.0f32;
-    let map = height_image(IMAGE_SIDE, IMAGE_SIDE, scale);
+    image_case(&height_image(IMAGE_SIDE, IMAGE_SIDE, scale), scale);
+}
+
+#[test]
+fn a_normal_map_baked_from_the_heights_gives_the_same_normals() {
+    // Scaled in the map (glTF's scale), not in the bake: exact for a height field, since
+    // `(-s h_u, -s h_v, 1)` is parallel to the scaled unit normal.
+    for scale in [1.0f32, 0.4, 2.5] {
+        image_case(&normal_image(IMAGE_SIDE, IMAGE_SIDE, scale), scale);
+    }
+}
+
+fn image_case(map: &BumpMap, scale: f32) {
     // The plane z = 0 with T = +X and a right-handed frame (w = +1): B = N x T = +Y.
     let (n, t) = (DVec3::Z, DVec3::X);
     let b = n.cross(t);
@@ -110,9 +141,9 @@ fn image_bump_on_a_plane_matches_the_displaced_surface_normal() {
     }
     // The test is not vacuous: the normals tilt far more than the tolerance.
     let tilted = sample_uvs()
-        .map(|(u, v)| displaced_normal(n, t, b, 1.0, height_gradient(u, v)).z)
+        .map(|(u, v)| displaced_normal(n, t, b, f64::from(scale), height_gradient(u, v)).z)
         .fold(1.0f64, f64::min);
-    assert!(tilted < 0.9, "largest tilt cos {tilted}");
+    assert!(tilted < 0.99, "largest tilt cos {tilted}");
     assert!(
         worst > 0.0,
         "perturb equals the f64 normal to the bit: suspicious"
@@ -121,10 +152,19 @@ fn image_bump_on_a_plane_matches_the_displaced_surface_normal() {
 
 #[test]
 fn left_handed_rotated_frame_with_a_skewed_tangent_matches_too() {
+    // For height images and normal maps alike.
     // N and T rotated off the axes, T not orthogonal to N (perturb orthogonalizes it), and a
     // left-handed frame (w = -1): B = -(N x T).
     let scale = 0.6f32;
-    let map = height_image(IMAGE_SIDE, IMAGE_SIDE, scale);
+    for map in [
+        height_image(IMAGE_SIDE, IMAGE_SIDE, scale),
+        normal_image(IMAGE_SIDE, IMAGE_SIDE, scale),
+    ] {
+        left_handed_case(&map, scale);
+    }
+}
+
+fn left_handed_case(map: &BumpMap, scale: f32) {
     let n = DVec3::new(0.3, -0.5, 0.8).normalize();
     let t_axis = DVec3::new(1.0, 0.4, 0.0).cross(n).normalize();
     let skewed = t_axis * 2.0 + n * 0.3;
@@ -229,8 +269,25 @@ fn rendered_bumped_plane_matches_the_closed_form_shading() {
     let material =
         Material::new(Vec3::splat(0.1), Vec3::splat(0.6), Vec3::splat(0.3), 12.0).expect("valid");
     let scale = 0.5f32;
-    let map = height_image(IMAGE_SIDE, IMAGE_SIDE, scale);
+    let maps = [
+        height_image(IMAGE_SIDE, IMAGE_SIDE, scale),
+        normal_image(IMAGE_SIDE, IMAGE_SIDE, scale),
+    ];
     let mesh = plane();
+    for map in &maps {
+        rendered_case(&mesh, &lights, &material, map, scale, (w, h), &camera);
+    }
+}
+
+fn rendered_case(
+    mesh: &Plane,
+    lights: &LightSet,
+    material: &Material,
+    map: &BumpMap,
+    scale: f32,
+    (w, h): (u32, u32),
+    camera: &Camera,
+) {
     let draw = |mode| DrawItem {
         mesh: MeshView {
             positions: &mesh.positions,
@@ -241,11 +298,11 @@ fn rendered_bumped_plane_matches_the_closed_form_shading() {
             indices: &mesh.indices,
         },
         model: Mat4::IDENTITY,
-        material: &material,
-        lights: &lights,
+        material,
+        lights,
         effects: Effects::ALL,
         mode,
-        bump: Some(&map),
+        bump: Some(map),
         texture: None,
         cull_backfaces: false,
     };
@@ -261,7 +318,7 @@ fn rendered_bumped_plane_matches_the_closed_form_shading() {
     // (IMAGE_TOLERANCE times the scale at most) rather than by the modes' own arithmetic.
     for (mode, tolerance) in [(ShadingMode::Reference, 1e-3), (ShadingMode::Phong, 1e-3)] {
         let mut fb = Framebuffer::new(w, h).expect("size");
-        render(&mut fb, &camera, &[draw(mode)], &RenderOptions::default());
+        render(&mut fb, camera, &[draw(mode)], &RenderOptions::default());
         let (mut checked, mut worst, mut varied) = (0, 0.0f64, (f64::MAX, 0.0f64));
         for y in 0..h {
             for x in 0..w {
@@ -278,7 +335,7 @@ fn rendered_bumped_plane_matches_the_closed_form_shading() {
                     f64::from(scale),
                     height_gradient(u, v),
                 );
-                let want = shade_reference(&lights, &material, p, n, DVec3::new(0.0, 0.0, 3.0))
+                let want = shade_reference(lights, material, p, n, DVec3::new(0.0, 0.0, 3.0))
                     .min(DVec3::ONE);
                 let got = fb.pixel(x, y).as_dvec3();
                 let err = (got - want).abs().max_element();

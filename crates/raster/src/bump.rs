@@ -1,7 +1,10 @@
 //! Bump mapping (Blinn 1978: the normal is perturbed before the shading model is applied): a
 //! height field `h(u, v)` tilts the interpolated normal in the tangent frame,
 //! `N' = normalize(N - scale (dh/du T + dh/dv B))`, `B = w (N x T)` with the tangent's
-//! handedness `w`. Used by `phong`, `reference`, and `fast-phong` (which draws bumped items
+//! handedness `w`. A tangent-space normal map gives the perturbed normal directly:
+//! `N' = normalize(s m_x T + s m_y B + m_z N)` for the map's unit vector `m` and scale `s`
+//! (the glTF 2.0 convention, shared by MikkTSpace tangents and Blender's bakes: `+y` along
+//! `B`, towards `+v`). Used by `phong`, `reference`, and `fast-phong` (which draws bumped items
 //! with `phong`); `flat` and `gouraud` ignore it (counted in `RenderStats::bump_ignored`).
 
 use std::f32::consts::TAU;
@@ -39,6 +42,18 @@ pub enum BumpMap {
         /// Height in texels.
         height: u32,
         /// Slope multiplier, in height units per uv unit.
+        scale: f32,
+    },
+    /// Tangent-space unit normals `(x, y, z)` along `(T, B, N)`, sampled bilinearly with
+    /// wrap-around, row 0 at v = 0.
+    Normals {
+        /// Row-major normals, `width * height` of them.
+        normals: Vec<Vec3>,
+        /// Width in texels.
+        width: u32,
+        /// Height in texels.
+        height: u32,
+        /// Multiplier of the `x` and `y` components (glTF's `normalTexture.scale`).
         scale: f32,
     },
 }
@@ -83,7 +98,72 @@ impl BumpMap {
         })
     }
 
-    /// `(dh/du, dh/dv)` times the scale at `uv`; zero for non-finite input.
+    /// A normal map from raw texels: `normals` row-major, `width * height` of them, row 0 at
+    /// v = 0 (as [`BumpMap::Normals`]), each normalized; a non-finite, zero or inward
+    /// (`z <= 0`) one becomes `(0, 0, 1)`, the unperturbed normal. Decoding an image's
+    /// `2 c - 1` components is the caller's.
+    ///
+    /// # Errors
+    /// A non-finite `scale`, an empty map, or a texel count other than `width * height`.
+    pub fn from_normals(
+        mut normals: Vec<Vec3>,
+        width: u32,
+        height: u32,
+        scale: f32,
+    ) -> Result<BumpMap, RasterError> {
+        if !scale.is_finite() {
+            return Err(RasterError::BadBump(format!("scale {scale} is not finite")));
+        }
+        if width == 0 || height == 0 {
+            return Err(RasterError::BadBump(format!(
+                "empty normal map ({width}x{height})"
+            )));
+        }
+        if normals.len() as u64 != u64::from(width) * u64::from(height) {
+            return Err(RasterError::BadBump(format!(
+                "{} normals for {width}x{height} texels",
+                normals.len()
+            )));
+        }
+        for n in &mut normals {
+            *n = safe_normalize(*n, Vec3::Z);
+            if n.z <= 0.0 {
+                *n = Vec3::Z;
+            }
+        }
+        Ok(BumpMap::Normals {
+            normals,
+            width,
+            height,
+            scale,
+        })
+    }
+
+    /// The tangent-space normal at `uv` before it is normalized: the map's bilinear sample
+    /// with `x` and `y` scaled, or the height field's `(-dh/du, -dh/dv, 1)`.
+    #[must_use]
+    pub fn tangent_normal(&self, uv: Vec2) -> Vec3 {
+        if let BumpMap::Normals {
+            normals,
+            width,
+            height,
+            scale,
+        } = self
+        {
+            if !uv.is_finite() || normals.len() != *width as usize * *height as usize {
+                return Vec3::Z;
+            }
+            let m = sample(normals, *width, *height, uv.x, uv.y);
+            let m = Vec3::new(m.x * scale, m.y * scale, m.z);
+            return if m.is_finite() { m } else { Vec3::Z };
+        }
+        let g = self.gradient(uv);
+        Vec3::new(-g.x, -g.y, 1.0)
+    }
+
+    /// `(dh/du, dh/dv)` times the scale at `uv`; zero for non-finite input. For a normal
+    /// map, the slopes of the surface its normal stands on, `(-x/z, -y/z)` (zero where the
+    /// sample is edge-on).
     #[must_use]
     pub fn gradient(&self, uv: Vec2) -> Vec2 {
         if !uv.is_finite() {
@@ -107,6 +187,14 @@ impl BumpMap {
                 let dv = (s(uv.x, uv.y + 1.0 / h) - s(uv.x, uv.y - 1.0 / h)) * (h * 0.5);
                 Vec2::new(du, dv) * *scale
             }
+            BumpMap::Normals { .. } => {
+                let m = self.tangent_normal(uv);
+                if m.z > 1e-6 {
+                    Vec2::new(-m.x, -m.y) / m.z
+                } else {
+                    Vec2::ZERO
+                }
+            }
         };
         if g.is_finite() { g } else { Vec2::ZERO }
     }
@@ -127,8 +215,8 @@ impl BumpMap {
         }
         let handed = if tangent.w < 0.0 { -1.0 } else { 1.0 };
         let b = n.cross(t) * handed;
-        let g = self.gradient(uv);
-        safe_normalize(n - t * g.x - b * g.y, n)
+        let m = self.tangent_normal(uv);
+        safe_normalize(t * m.x + b * m.y + n * m.z, n)
     }
 }
 
@@ -152,7 +240,10 @@ fn procedural_gradient(kind: ProceduralBump, uv: Vec2) -> Vec2 {
 }
 
 /// Bilinear sample with wrap-around; texel centres at `(i + 0.5) / width`.
-fn sample(heights: &[f32], width: u32, height: u32, u: f32, v: f32) -> f32 {
+fn sample<T>(heights: &[T], width: u32, height: u32, u: f32, v: f32) -> T
+where
+    T: Copy + std::ops::Mul<f32, Output = T> + std::ops::Add<Output = T>,
+{
     let (w, h) = (width as i64, height as i64);
     let x = u * width as f32 - 0.5;
     let y = v * height as f32 - 0.5;

@@ -232,8 +232,16 @@ pub struct MaterialName(pub String);
 pub enum BumpSource {
     /// A built-in height field.
     Procedural(ProceduralBump),
-    /// An image, as written in the scene file and as resolved.
+    /// A height-field image, as written in the scene file and as resolved.
     Map {
+        /// As written.
+        written: String,
+        /// Resolved against the scene file's folder.
+        resolved: PathBuf,
+    },
+    /// A tangent-space normal-map image (`2 c - 1` per channel, `+y` towards `+v`), as
+    /// written in the scene file and as resolved.
+    Normals {
         /// As written.
         written: String,
         /// Resolved against the scene file's folder.

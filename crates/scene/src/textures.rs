@@ -42,11 +42,21 @@ pub struct ColorMap(pub Arc<Texture>);
 /// [`MAX_TEXTURE_SIDE`], more than [`MAX_TEXTURE_BYTES`] decoded, or a decoding error; the
 /// message is for the caller to prefix with the file and material.
 pub fn decode(bytes: &[u8], wrap: (Wrap, Wrap)) -> Result<Texture, String> {
+    let img = decode_image(bytes)?.into_rgb8();
+    let t = Texture::from_srgb8(img.width(), img.height(), 3, img.as_raw())
+        .map_err(|e| e.to_string())?;
+    Ok(t.with_wrap(wrap.0, wrap.1))
+}
+
+/// The image in `bytes` (its format guessed from them), refused from its header alone when a
+/// side is 0 or over [`MAX_TEXTURE_SIDE`] or its texture would take over
+/// [`MAX_TEXTURE_BYTES`]: every map, colour or bump, is checked before it is decoded.
+pub(crate) fn decode_image(bytes: &[u8]) -> Result<image::DynamicImage, String> {
     let reader = image::ImageReader::new(Cursor::new(bytes))
         .with_guessed_format()
         .map_err(|e| e.to_string())?;
     if reader.format().is_none() {
-        return Err("not a PNG or JPEG image".to_owned());
+        return Err("not an image format Phosphor reads (PNG, JPEG, OpenEXR)".to_owned());
     }
     let (w, h) = reader
         .into_dimensions()
@@ -72,10 +82,7 @@ pub fn decode(bytes: &[u8], wrap: (Wrap, Wrap)) -> Result<Texture, String> {
     limits.max_image_height = Some(h);
     limits.max_alloc = Some(MAX_TEXTURE_BYTES);
     reader.limits(limits);
-    let img = reader.decode().map_err(|e| e.to_string())?.into_rgb8();
-    let t = Texture::from_srgb8(img.width(), img.height(), 3, img.as_raw())
-        .map_err(|e| e.to_string())?;
-    Ok(t.with_wrap(wrap.0, wrap.1))
+    reader.decode().map_err(|e| e.to_string())
 }
 
 /// The raster's wrap mode for a mesh file's.

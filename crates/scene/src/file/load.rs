@@ -511,8 +511,16 @@ fn material(m: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<MaterialDef
 
 fn bump(b: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<(BumpSource, f32), SceneError> {
     let scale = b.f32("scale")?.unwrap_or(1.0);
-    let source = match (b.str("procedural")?, b.str("map")?) {
-        (Some(p), None) => BumpSource::Procedural(choose(
+    let file = |key: &str, m: &str| {
+        let resolved = dir.join(m);
+        if files.exists(&resolved) {
+            Ok((m.to_owned(), resolved))
+        } else {
+            Err(b.error(key, format!("{}: no such file", resolved.display())))
+        }
+    };
+    let source = match (b.str("procedural")?, b.str("map")?, b.str("normals")?) {
+        (Some(p), None, None) => BumpSource::Procedural(choose(
             b,
             "procedural",
             p,
@@ -521,23 +529,21 @@ fn bump(b: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<(BumpSource, f3
                 ("ripples", ProceduralBump::Ripples),
             ],
         )?),
-        (None, Some(m)) => {
-            let resolved = dir.join(m);
-            if !files.exists(&resolved) {
-                return Err(b.error("map", format!("{}: no such file", resolved.display())));
-            }
-            BumpSource::Map {
-                written: m.to_owned(),
-                resolved,
-            }
+        (None, Some(m), None) => {
+            let (written, resolved) = file("map", m)?;
+            BumpSource::Map { written, resolved }
+        }
+        (None, None, Some(m)) => {
+            let (written, resolved) = file("normals", m)?;
+            BumpSource::Normals { written, resolved }
         }
         _ => {
             return Err(b.error_here(
-                "expected exactly one of `map = \"FILE\"` or `procedural = \"bumps\" | \"ripples\"`",
+                "expected exactly one of `map = \"FILE\"` (heights), `normals = \"FILE\"` (a tangent-space normal map) or `procedural = \"bumps\" | \"ripples\"`",
             ));
         }
     };
-    b.finish(&["map", "procedural", "scale"])?;
+    b.finish(&["map", "normals", "procedural", "scale"])?;
     Ok((source, scale))
 }
 
@@ -804,8 +810,12 @@ fn object(
                         kind: *kind,
                         scale: *scale,
                     },
-                    BumpSource::Map { resolved, .. } => {
-                        let field = || format!("materials.{material_name}.bump.map");
+                    BumpSource::Map { resolved, .. } | BumpSource::Normals { resolved, .. } => {
+                        let normals = matches!(src, BumpSource::Normals { .. });
+                        let field = || {
+                            let key = if normals { "normals" } else { "map" };
+                            format!("materials.{material_name}.bump.{key}")
+                        };
                         let bytes = files.read_bytes(resolved).map_err(|e| {
                             SceneError::field(
                                 o.file(),
@@ -813,7 +823,12 @@ fn object(
                                 format!("{}: cannot read: {e}", resolved.display()),
                             )
                         })?;
-                        super::bump_image::decode(&bytes, resolved, *scale)
+                        let decode = if normals {
+                            super::bump_image::decode_normals
+                        } else {
+                            super::bump_image::decode
+                        };
+                        decode(&bytes, resolved, *scale)
                             .map_err(|e| SceneError::field(o.file(), field(), e))?
                     }
                 });
@@ -828,6 +843,8 @@ fn object(
                 o.path_of("material")
             ));
         }
+        scene.world.insert_one(entity, Bump(map)).ok();
+    } else if let Some(map) = mesh_normal_map(scene, o, &mesh, bumps) {
         scene.world.insert_one(entity, Bump(map)).ok();
     }
     if let Some(map) = color_map(scene, o, material_name, &def, &mesh, files, maps) {
@@ -852,7 +869,10 @@ fn color_map(
     files: &dyn Files,
     maps: &mut BTreeMap<String, Option<Arc<Texture>>>,
 ) -> Option<Arc<Texture>> {
-    let (what, key, wrap, read): (String, String, _, ReadBytes<'_>) = if let Some(src) = &def.kd_map
+    let (what, key, wrap, factor, read): (String, String, _, Vec3, ReadBytes<'_>) = if let Some(
+        src,
+    ) =
+        &def.kd_map
     {
         match src {
             MapSource::File { written, resolved } => {
@@ -861,6 +881,7 @@ fn color_map(
                     format!("material \"{material_name}\" kd_map \"{written}\""),
                     format!("file:{}", resolved.display()),
                     (Wrap::Repeat, Wrap::Repeat),
+                    Vec3::ONE,
                     Box::new(move || files.read_bytes(&resolved).map(Arc::from)),
                 )
             }
@@ -880,19 +901,19 @@ fn color_map(
         }
     } else {
         let used: BTreeSet<u32> = mesh.mesh.material_ids.iter().copied().collect();
-        let refs: Vec<Option<&phosphor_mesh::TextureRef>> = used
+        // The map with its material's colour factor (glTF baseColorFactor, MTL Kd), which
+        // multiplies it in both formats.
+        let refs: Vec<Option<(&phosphor_mesh::TextureRef, Vec3)>> = used
             .iter()
             .map(|&i| {
-                mesh.mesh
-                    .materials
-                    .get(i as usize)
-                    .and_then(|m| m.kd_map.as_ref())
+                let m = mesh.mesh.materials.get(i as usize)?;
+                Some((m.kd_map.as_ref()?, m.kd))
             })
             .collect();
-        let first = refs.iter().flatten().next().copied()?;
-        if refs.iter().any(|r| *r != Some(first)) {
+        let (first, factor) = refs.iter().flatten().next().copied()?;
+        if refs.iter().any(|r| *r != Some((first, factor))) {
             scene.warnings.push(format!(
-                    "warning: {}: {}: the mesh's materials name different colour maps (or some none); one map per object is drawn, so none is",
+                    "warning: {}: {}: the mesh's materials name different colour maps or colour factors (or some no map); one map per object is drawn, so none is",
                     o.file(),
                     o.path_of("mesh")
                 ));
@@ -904,8 +925,9 @@ fn color_map(
                 "mesh material map \"{}\"",
                 phosphor_mesh::sanitize::quote(&first.written, 80)
             ),
-            format!("mesh:{:?}", first.source),
+            format!("mesh:{:?}|{factor}", first.source),
             (wrap_of(first.wrap_u), wrap_of(first.wrap_v)),
+            factor,
             Box::new(move || source.bytes()),
         )
     };
@@ -923,7 +945,14 @@ fn color_map(
     }
     let texture = read()
         .map_err(|e| format!("cannot read: {e}"))
-        .and_then(|bytes| decode(&bytes, wrap));
+        .and_then(|bytes| decode(&bytes, wrap))
+        .map(|t| {
+            if factor == Vec3::ONE {
+                t
+            } else {
+                t.tinted(factor)
+            }
+        });
     let texture = match texture {
         Ok(t) => Some(Arc::new(t)),
         Err(e) => {
@@ -937,6 +966,78 @@ fn color_map(
     };
     maps.insert(key, texture.clone());
     texture
+}
+
+/// The normal map every material of the object's mesh names (MTL `norm`, glTF
+/// `normalTexture` with its scale), when its scene material has no bump map, decoded once per
+/// image and scale. As with colour maps, a map that cannot be used is one warning and the
+/// object is drawn without it.
+fn mesh_normal_map(
+    scene: &mut Scene,
+    o: &Fields<'_>,
+    mesh: &SceneMesh,
+    bumps: &mut BTreeMap<String, Arc<BumpMap>>,
+) -> Option<Arc<BumpMap>> {
+    let used: BTreeSet<u32> = mesh.mesh.material_ids.iter().copied().collect();
+    let maps: Vec<_> = used
+        .iter()
+        .map(|&i| {
+            mesh.mesh
+                .materials
+                .get(i as usize)
+                .and_then(|m| m.normal_map.as_ref())
+        })
+        .collect();
+    let (first, scale) = maps.iter().flatten().next().copied()?;
+    let what = format!(
+        "mesh material normal map \"{}\"",
+        phosphor_mesh::sanitize::quote(&first.written, 80)
+    );
+    let warn = |scene: &mut Scene, why: &str| {
+        scene.warnings.push(format!(
+            "warning: {}: {}: {what}: {why}",
+            o.file(),
+            o.path_of("mesh")
+        ));
+    };
+    if maps
+        .iter()
+        .any(|m| m.map(|(t, s)| (t, *s)) != Some((first, *scale)))
+    {
+        warn(
+            scene,
+            "the mesh's materials name different normal maps (or some none); one map per object is drawn, so none is",
+        );
+        return None;
+    }
+    if mesh.mesh.uvs.is_none() || mesh.mesh.tangents.is_none() {
+        warn(
+            scene,
+            "the mesh has no texture coordinates (and so no tangents); the map is not drawn",
+        );
+        return None;
+    }
+    let key = format!("mesh-normals:{:?}|{scale}", first.source);
+    if let Some(done) = bumps.get(&key) {
+        return Some(done.clone());
+    }
+    let path = Path::new(&first.written);
+    let map = first
+        .source
+        .bytes()
+        .map_err(|e| format!("cannot read: {e}"))
+        .and_then(|bytes| super::bump_image::decode_normals(&bytes, path, *scale));
+    match map {
+        Ok(map) => {
+            let map = Arc::new(map);
+            bumps.insert(key, map.clone());
+            Some(map)
+        }
+        Err(e) => {
+            warn(scene, &format!("{e}; drawn without it"));
+            None
+        }
+    }
 }
 
 /// Adds up the footprints of the scene's distinct primitives in file order and refuses the

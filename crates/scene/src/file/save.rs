@@ -205,6 +205,9 @@ fn material_table(def: &MaterialDef) -> Table {
             BumpSource::Map { written, .. } => {
                 b.insert("map".into(), s(written));
             }
+            BumpSource::Normals { written, .. } => {
+                b.insert("normals".into(), s(written));
+            }
         }
         b.insert("scale".into(), f(*scale));
         t.insert("bump".into(), Value::Table(b));
