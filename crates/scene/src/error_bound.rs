@@ -89,6 +89,8 @@ impl ErrorBounds {
 struct LightTerm {
     /// `max over channels kd Il`.
     k: f32,
+    /// `min over channels kd Il` (for lower bounds).
+    k_min: f32,
     /// `None` for a directional light (direction towards it in `dir`).
     position: Option<Vec3>,
     dir: Vec3,
@@ -101,6 +103,12 @@ struct LightTerm {
 fn max_channel(v: Vec3) -> f32 {
     let m = v.max_element();
     if m.is_nan() { f32::INFINITY } else { m }
+}
+
+/// Smallest channel, NaN as 0.
+fn min_channel(v: Vec3) -> f32 {
+    let m = v.min_element();
+    if m.is_nan() { 0.0 } else { m.max(0.0) }
 }
 
 /// Upper bounds of the `flat` and `gouraud` errors over the triangle with world corners `p`
@@ -181,6 +189,7 @@ pub fn shading_error_bounds(
     for l in set.directional() {
         terms.push(LightTerm {
             k: max_channel(kd * l.il),
+            k_min: min_channel(kd * l.il),
             position: None,
             dir: l.to_light.normalize_or_zero(),
             attenuation: [1.0, 0.0, 0.0],
@@ -190,6 +199,7 @@ pub fn shading_error_bounds(
     for l in set.points().iter().chain(set.distributed_samples()) {
         terms.push(LightTerm {
             k: max_channel(kd * l.il),
+            k_min: min_channel(kd * l.il),
             position: Some(l.position),
             dir: Vec3::ZERO,
             attenuation: l.attenuation,
@@ -199,6 +209,7 @@ pub fn shading_error_bounds(
     for s in set.spots() {
         terms.push(LightTerm {
             k: max_channel(kd * s.point.il),
+            k_min: min_channel(kd * s.point.il),
             position: Some(s.point.position),
             dir: Vec3::ZERO,
             attenuation: s.point.attenuation,
@@ -210,12 +221,14 @@ pub fn shading_error_bounds(
     let mut flat = 0.0f32;
     let mut lipschitz = 0.0f32;
     let mut sup_sum = 0.0f32;
+    let mut inf_sum = 0.0f32;
     for t in &terms {
         if t.k <= 0.0 {
             continue;
         }
         let b = light_bounds(t, &p, &n, face, centroid, k1n, k2n);
         sup_sum += b.sup;
+        inf_sum += b.inf;
         lipschitz += b.d1;
         if b.lit {
             let second = if b.smooth { b.d2 * quad } else { f32::INFINITY };
@@ -228,7 +241,13 @@ pub fn shading_error_bounds(
     let spec = max_channel(specular_upper_bound::<ALL>(set, mat, p, n, eye));
     let spec_centre = max_channel(shade_split::<ALL>(set, mat, centroid, face, eye).specular);
     let ambient = max_channel(shade_split::<ALL>(set, mat, centroid, face, eye).ambient);
-    let gouraud = if vertex_clamp && ambient + sup_sum + spec > 1.0 {
+    let lowest_ambient = shade_split::<ALL>(set, mat, centroid, face, eye)
+        .ambient
+        .min_element();
+    let gouraud = if vertex_clamp && lowest_ambient + inf_sum >= 1.0 {
+        // Saturated everywhere on the triangle: every vertex and every point show 1.
+        0.0
+    } else if vertex_clamp && ambient + sup_sum + spec > 1.0 {
         // The clamped sum min(ambient + D, 1) is Lipschitz with the diffuse bound; the
         // specular moves each side by at most its bound.
         (lipschitz * lip).min(1.0) + 2.0 * spec
@@ -256,6 +275,8 @@ struct Bounds {
     smooth: bool,
     /// `sup D`.
     sup: f32,
+    /// A lower bound of `D` over the triangle (0 where it may vanish).
+    inf: f32,
     /// `|D'|` along the surface with the interpolated normal.
     d1: f32,
     /// `|D'|` with the normal held fixed.
@@ -288,6 +309,8 @@ fn light_bounds(
             face_lit: face.dot(t.dir) > 0.0,
             smooth: lo > 0.0,
             sup: t.k,
+            // n.L >= m.L >= min h_i where that is positive (|m| <= 1).
+            inf: t.k_min * lo.max(0.0),
             d1: t.k * k1n,
             d1_position: 0.0,
             d2: t.k * k2n,
@@ -370,6 +393,33 @@ fn light_bounds(
             }
         }
     };
+    // Lower bound: h >= m.(P - x) / d_max (|m| <= 1), f >= 1/g(d_max), s >= 1 only where the
+    // whole triangle is inside the inner cone.
+    let g_max = ac + al * d_max + aq * d_max * d_max;
+    let s_min = match t.spot {
+        None => 1.0,
+        Some((axis, cos_outer, inv_w)) => {
+            let num: [f32; 3] = std::array::from_fn(|i| (p[i] - pos).dot(axis));
+            let n_lo = num[0].min(num[1]).min(num[2]);
+            let u_lo = if d_min <= 0.0 {
+                -1.0
+            } else if n_lo >= 0.0 {
+                n_lo / d_max
+            } else {
+                n_lo / d_min
+            };
+            if (u_lo - cos_outer) * inv_w >= 1.0 {
+                1.0
+            } else {
+                0.0
+            }
+        }
+    };
+    let inf = if num_lo > 0.0 && d_max > 0.0 && g_max >= MIN_ATTENUATION_DENOMINATOR {
+        t.k_min * (num_lo / d_max).min(1.0) / g_max * s_min
+    } else {
+        0.0
+    };
     let k1h = k1n + k1l;
     let k2h = k2n + 2.0 * k1n * k1l + k2l;
     let k = t.k;
@@ -379,6 +429,7 @@ fn light_bounds(
         face_lit: face_lit && !spot_dark,
         smooth: num_lo > 0.0 && f_smooth,
         sup: k * f0 * s0,
+        inf: if inf.is_nan() { 0.0 } else { inf },
         d1: nan_inf(k * (f1 * s0 + f0 * s1 + f0 * s0 * k1h)),
         d1_position: nan_inf(k * (f1 * s0 + f0 * s1 + f0 * s0 * k1l)),
         d2: nan_inf(
