@@ -443,6 +443,8 @@ fn light_bounds(
 
 #[cfg(test)]
 mod tests {
+    #![allow(clippy::unwrap_used)]
+
     use super::*;
     use glam::DVec3;
     use phosphor_lighting::{Attenuation, Light, LightKind, SpecularModel, shade, shade_reference};

@@ -712,8 +712,7 @@ fn ka_kd_gives_the_notes_ambient_term_ia_kd() {
         &format!("{BASE}[materials.m]\nka = \"ks\"\n[[objects]]\nprimitive = {{ shape = \"cube\" }}\nmaterial = \"m\"\n"),
         "t.toml",
     )
-    .err()
-    .expect("an error");
+    .expect_err("an error");
     assert!(err.to_string().contains("ka"), "{err}");
 }
 
