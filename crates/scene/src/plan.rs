@@ -493,9 +493,9 @@ pub struct AutoInput<'a> {
 /// - `gouraud` where that bound for `gouraud` is within one code on every triangle (terminators,
 ///   spot-cone edges, attenuation, highlights between vertices and the vertex clamp are all
 ///   inside the bound);
-/// - `phong` otherwise (within 1e-5 of `reference`), and for bump maps, textures and vertex
-///   colours, which the bounds do not cover. `fast-phong` is never chosen: its fit is checked
-///   at ten points, not bounded between them.
+/// - `phong` otherwise (the model per pixel in f32: within 1e-5 of `reference` untextured),
+///   and for bump maps, textures and vertex colours, which the bounds do not cover.
+///   `fast-phong` is never chosen: its fit is checked at ten points, not bounded between them.
 ///
 /// One code is [`AUTO_TOLERANCE`] in the scene's encoding: for sRGB, the linear step
 /// ([`linear_tolerance`]) above the object's lowest intensity, its ambient and emission term.
@@ -571,7 +571,7 @@ pub fn choose_mode(o: &AutoInput<'_>) -> (ShadingMode, String) {
     (
         ShadingMode::Phong,
         format!(
-            "gouraud bound {}: phong (within 1e-5 of reference)",
+            "gouraud bound {}: phong, the model per pixel",
             show(bounds.gouraud)
         ),
     )
