@@ -1,32 +1,39 @@
 //! The comparison math of `phosphor accuracy`: error statistics of an image against the
 //! reference, the false-colour heat-map, and the median of frame times.
 //!
-//! All comparisons are on the framebuffer's linear, clamped [0, 1] values, per channel.
+//! All comparisons are per channel, on the framebuffer's linear values and on the codes the
+//! scene's encoding displays, over the pixels the reference covers.
 
 use phosphor_math::glam::Vec3;
+use phosphor_raster::Encoding;
+use phosphor_raster::encode::srgb_encode;
 
 use crate::font;
 use crate::rgb8::Rgb8Image;
 
-/// One step of an 8-bit display: errors above this are visible in a PNG.
-pub const ONE_LSB: f64 = 1.0 / 255.0;
 /// Width of the heat-map's scale bar, in pixels.
 const BAR_WIDTH: u32 = 12;
 /// Gap between the image and the scale bar, in pixels.
 const BAR_GAP: u32 = 4;
 
-/// How far an image is from the reference.
+/// How far an image is from the reference, over the pixels the reference covers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ErrorStats {
-    /// Root mean square of the per-channel differences.
+    /// Root mean square of the per-channel differences (linear values).
     pub rmse: f64,
     /// Peak signal-to-noise ratio for a peak of 1, in dB: `20 log10(1 / rmse)`; infinite when
     /// the images are equal.
     pub psnr_db: f64,
-    /// Largest per-channel absolute difference.
+    /// Largest per-channel absolute difference (linear values).
     pub max_abs: f64,
-    /// Share (0..=1) of pixels where some channel differs by more than [`ONE_LSB`].
-    pub share_over_lsb: f64,
+    /// Largest per-channel difference in displayed 8-bit codes: both values encoded as the
+    /// scene displays them (sRGB or linear, before rounding), times 255.
+    pub max_codes: f64,
+    /// Share (0..=1) of the covered pixels where some channel differs by more than one
+    /// displayed code.
+    pub share_over_code: f64,
+    /// Pixels compared (covered by the reference).
+    pub covered: usize,
 }
 
 /// The largest per-channel absolute difference of two colours.
@@ -35,30 +42,70 @@ pub fn pixel_error(a: Vec3, b: Vec3) -> f32 {
     (a - b).abs().max_element()
 }
 
-/// Compares `image` with `reference` (same size, row-major). `None` when the sizes differ or
-/// the images are empty. Non-finite values count as the largest error (1).
+/// A linear value as the display shows it, in codes (0..=255, not rounded).
 #[must_use]
-pub fn compare(image: &[Vec3], reference: &[Vec3]) -> Option<ErrorStats> {
-    if image.len() != reference.len() || image.is_empty() {
+pub fn displayed_code(value: f32, encoding: Encoding) -> f64 {
+    let v = if value.is_nan() {
+        0.0
+    } else {
+        value.clamp(0.0, 1.0)
+    };
+    f64::from(match encoding {
+        Encoding::Srgb => srgb_encode(v),
+        Encoding::Linear => v,
+    }) * 255.0
+}
+
+/// Compares `image` with `reference` (same size, row-major) over the pixels where `covered` is
+/// true (every pixel when `None`: a background pixel is the same clear colour in both and
+/// would only dilute the figures). `None` when the sizes differ or nothing is compared.
+/// Non-finite values count as the largest error (1, 255 codes).
+#[must_use]
+pub fn compare(
+    image: &[Vec3],
+    reference: &[Vec3],
+    covered: Option<&[bool]>,
+    encoding: Encoding,
+) -> Option<ErrorStats> {
+    if image.len() != reference.len() || covered.is_some_and(|c| c.len() != image.len()) {
         return None;
     }
     let mut sum_sq = 0.0f64;
     let mut max_abs = 0.0f64;
+    let mut max_codes = 0.0f64;
     let mut over = 0usize;
-    for (&a, &b) in image.iter().zip(reference) {
+    let mut count = 0usize;
+    for (i, (&a, &b)) in image.iter().zip(reference).enumerate() {
+        if covered.is_some_and(|c| !c[i]) {
+            continue;
+        }
+        count += 1;
         let mut pixel_max = 0.0f64;
+        let mut pixel_codes = 0.0f64;
         for c in 0..3 {
             let d = f64::from(a[c]) - f64::from(b[c]);
-            let d = if d.is_finite() { d.abs().min(1.0) } else { 1.0 };
+            let (d, codes) = if d.is_finite() {
+                (
+                    d.abs().min(1.0),
+                    (displayed_code(a[c], encoding) - displayed_code(b[c], encoding)).abs(),
+                )
+            } else {
+                (1.0, 255.0)
+            };
             sum_sq += d * d;
             pixel_max = pixel_max.max(d);
+            pixel_codes = pixel_codes.max(codes);
         }
         max_abs = max_abs.max(pixel_max);
-        if pixel_max > ONE_LSB {
+        max_codes = max_codes.max(pixel_codes);
+        if pixel_codes > 1.0 {
             over += 1;
         }
     }
-    let rmse = (sum_sq / (image.len() * 3) as f64).sqrt();
+    if count == 0 {
+        return None;
+    }
+    let rmse = (sum_sq / (count * 3) as f64).sqrt();
     let psnr_db = if rmse > 0.0 {
         20.0 * (1.0 / rmse).log10()
     } else {
@@ -68,8 +115,22 @@ pub fn compare(image: &[Vec3], reference: &[Vec3]) -> Option<ErrorStats> {
         rmse,
         psnr_db,
         max_abs,
-        share_over_lsb: over as f64 / image.len() as f64,
+        max_codes,
+        share_over_code: over as f64 / count as f64,
+        covered: count,
     })
+}
+
+/// Minimum, median and maximum of `values` (0s when empty).
+#[must_use]
+pub fn spread(values: &[f64]) -> (f64, f64, f64) {
+    let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if values.is_empty() {
+        (0.0, 0.0, 0.0)
+    } else {
+        (min, median(values), max)
+    }
 }
 
 /// The median of `values` (the mean of the middle two for an even count); 0 when empty.
@@ -227,6 +288,35 @@ pub fn with_scale_labels(map: &Rgb8Image, scale: f32) -> Rgb8Image {
     out
 }
 
+/// `img` with `title` written above it on a black band (the heat-maps' title: what is shown
+/// and in which units), at the text size [`with_scale_labels`] picks for its height.
+#[must_use]
+pub fn with_title(img: &Rgb8Image, title: &str) -> Rgb8Image {
+    let text = if img.height >= 400 { 2 } else { 1 };
+    let band = font::text_height(text) + 6 * text;
+    let width = img.width.max(font::text_width(title, text) + 4 * text);
+    let mut out = Rgb8Image {
+        width,
+        height: img.height + band,
+        data: vec![0; width as usize * (img.height + band) as usize * 3],
+    };
+    for y in 0..img.height as usize {
+        let src = y * img.width as usize * 3;
+        let dst = (y + band as usize) * width as usize * 3;
+        out.data[dst..dst + img.width as usize * 3]
+            .copy_from_slice(&img.data[src..src + img.width as usize * 3]);
+    }
+    font::draw_text(
+        &mut out,
+        i64::from(2 * text),
+        i64::from(3 * text),
+        title,
+        text,
+        [255, 255, 255],
+    );
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -234,10 +324,11 @@ mod tests {
     #[test]
     fn identical_images_have_zero_error_and_infinite_psnr() {
         let img = vec![Vec3::new(0.2, 0.4, 0.6); 12];
-        let s = compare(&img, &img).expect("same size");
+        let s = compare(&img, &img, None, Encoding::Srgb).expect("same size");
         assert_eq!(s.rmse, 0.0);
         assert_eq!(s.max_abs, 0.0);
-        assert_eq!(s.share_over_lsb, 0.0);
+        assert_eq!(s.max_codes, 0.0);
+        assert_eq!(s.share_over_code, 0.0);
         assert!(s.psnr_db.is_infinite());
     }
 
@@ -247,12 +338,22 @@ mod tests {
         let reference = vec![Vec3::ZERO; 4];
         let mut image = reference.clone();
         image[1] = Vec3::new(0.1, 0.0, 0.0);
-        let s = compare(&image, &reference).expect("same size");
+        let s = compare(&image, &reference, None, Encoding::Linear).expect("same size");
         let rmse = (0.01f64 / 12.0).sqrt();
         assert!((s.rmse - rmse).abs() < 1e-7, "{}", s.rmse);
         assert!((s.psnr_db - 20.0 * (1.0 / rmse).log10()).abs() < 1e-4);
         assert!((s.max_abs - 0.1).abs() < 1e-6);
-        assert!((s.share_over_lsb - 0.25).abs() < 1e-12);
+        assert!((s.max_codes - 25.5).abs() < 1e-4, "{}", s.max_codes);
+        assert!((s.share_over_code - 0.25).abs() < 1e-12);
+        // Over the one covered pixel only: the background no longer dilutes the share.
+        let covered = [false, true, false, false];
+        let s = compare(&image, &reference, Some(&covered), Encoding::Linear).expect("covered");
+        assert_eq!(s.covered, 1);
+        assert!((s.share_over_code - 1.0).abs() < 1e-12);
+        assert!((s.rmse - (0.01f64 / 3.0).sqrt()).abs() < 1e-7);
+        // In sRGB, 0.1 above black is 89 codes (the curve is steep near 0).
+        let s = compare(&image, &reference, None, Encoding::Srgb).expect("same size");
+        assert!((s.max_codes - f64::from(srgb_encode(0.1)) * 255.0).abs() < 1e-3);
     }
 
     #[test]
@@ -262,20 +363,28 @@ mod tests {
             Vec3::splat(0.5 + 0.9 / 255.0),
             Vec3::splat(0.5 + 1.5 / 255.0),
         ];
-        let s = compare(&image, &reference).expect("same size");
-        assert!((s.share_over_lsb - 0.5).abs() < 1e-12);
+        let s = compare(&image, &reference, None, Encoding::Linear).expect("same size");
+        assert!((s.share_over_code - 0.5).abs() < 1e-12);
     }
 
     #[test]
     fn mismatched_or_empty_images_are_not_compared() {
-        assert!(compare(&[Vec3::ZERO], &[]).is_none());
-        assert!(compare(&[], &[]).is_none());
+        assert!(compare(&[Vec3::ZERO], &[], None, Encoding::Srgb).is_none());
+        assert!(compare(&[], &[], None, Encoding::Srgb).is_none());
+        let none = [false];
+        assert!(compare(&[Vec3::ZERO], &[Vec3::ONE], Some(&none), Encoding::Srgb).is_none());
     }
 
     #[test]
     fn non_finite_pixels_count_as_the_largest_error() {
-        let s = compare(&[Vec3::new(f32::NAN, 0.0, 0.0)], &[Vec3::ZERO]).expect("same size");
-        assert!(s.rmse.is_finite() && s.max_abs == 1.0);
+        let s = compare(
+            &[Vec3::new(f32::NAN, 0.0, 0.0)],
+            &[Vec3::ZERO],
+            None,
+            Encoding::Srgb,
+        )
+        .expect("same size");
+        assert!(s.rmse.is_finite() && s.max_abs == 1.0 && s.max_codes == 255.0);
     }
 
     #[test]
@@ -283,6 +392,8 @@ mod tests {
         assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
         assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
         assert_eq!(median(&[]), 0.0);
+        assert_eq!(spread(&[3.0, 1.0, 2.0, 9.0]), (1.0, 2.5, 9.0));
+        assert_eq!(spread(&[]), (0.0, 0.0, 0.0));
     }
 
     #[test]
@@ -332,5 +443,14 @@ mod tests {
                 .any(|x| labelled.data[(y * labelled.width as usize + x) * 3] == 255)
         });
         assert!(margin_lit);
+        // A title band on top, the map below it unchanged.
+        let titled = with_title(&labelled, "error");
+        assert!(titled.height > labelled.height);
+        let band = (titled.height - labelled.height) as usize;
+        assert_eq!(
+            titled.data[band * titled.width as usize * 3..][..labelled.width as usize * 3],
+            labelled.data[..labelled.width as usize * 3]
+        );
+        assert!(titled.data[..band * titled.width as usize * 3].contains(&255));
     }
 }

@@ -4,7 +4,7 @@
 //! phosphor render [SCENE.toml] [--mesh FILE.obj] [--shading MODE] [--size WxH] [--threads N]
 //!                 [--encoding srgb|linear] [--plan] [--turntable N [--frames A..B]]
 //!                 -o OUT.png|OUT.exr|OUT_%04d.png|-
-//! phosphor accuracy [SCENE.toml] [--mesh FILE.obj] [--size WxH] [--out-dir DIR]
+//! phosphor accuracy [SCENE.toml] [--mesh FILE.obj] [--size WxH] [--out-dir DIR] [--csv FILE.csv]
 //! phosphor info FILE.obj
 //! phosphor bench [SCENE.toml] [--mesh FILE.obj] [--shading MODE|all] [--size WxH] [--threads N] [--frames N]
 //! phosphor completions bash|zsh|fish|powershell
@@ -37,6 +37,7 @@ mod commands;
 mod folders;
 mod font;
 mod frames;
+mod geometric;
 mod limits;
 mod mach;
 mod output;

@@ -171,3 +171,11 @@ pub fn write_rgb8(out: &Path, img: &Rgb8Image, force: bool) -> Result<(), CliErr
     )
     .map_err(|e| input_error(&e))
 }
+
+/// Writes `bytes` (a CSV table) to `out`, whole or not at all, as every output is.
+pub fn write_bytes(out: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
+    phosphor_output::write_file(out, force, |sink| {
+        sink.write_all(bytes).map_err(|e| e.to_string())
+    })
+    .map_err(|e| input_error(&e))
+}

@@ -46,12 +46,14 @@ pub struct PlotPoint {
     pub label: String,
     /// Median milliseconds per frame.
     pub ms: f64,
+    /// Fastest and slowest frame, milliseconds (drawn as an error bar).
+    pub ms_range: (f64, f64),
     /// RMSE against the reference (0 for the reference itself).
     pub rmse: f64,
 }
 
 /// Marker shapes, cycled with the palette so that markers on the same spot stay apart.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 enum Shape {
     Circle,
     Square,
@@ -65,6 +67,28 @@ const SHAPES: [Shape; 4] = [
     Shape::Diamond,
     Shape::Triangle,
 ];
+
+/// The colour and shape of the `i`-th mode: colours cycle through [`PALETTE`], shapes step
+/// once more every time the colours wrap, so no two of the first 32 modes share both.
+fn style(i: usize) -> ([u8; 3], Shape) {
+    (
+        PALETTE[i % PALETTE.len()],
+        SHAPES[(i + i / PALETTE.len()) % SHAPES.len()],
+    )
+}
+
+/// Height of a legend entry (name line and numbers line), pixels.
+fn legend_step() -> i64 {
+    2 * (i64::from(text_height(TEXT)) + 9)
+}
+
+/// The image height for `n` modes: [`HEIGHT`], or taller so that every legend entry fits.
+#[must_use]
+pub fn height_for(n: usize) -> u32 {
+    let (_, top, _, _) = AREA;
+    let needed = top + 30 + n as i64 * legend_step() + 10;
+    HEIGHT.max(u32::try_from(needed).unwrap_or(u32::MAX))
+}
 
 /// A step of 1, 2 or 5 times a power of ten giving about `ticks` intervals over `range`.
 fn nice_step(range: f64, ticks: f64) -> f64 {
@@ -96,7 +120,7 @@ impl Axes {
     fn fit(points: &[PlotPoint]) -> Axes {
         let ms_max = points
             .iter()
-            .map(|p| p.ms)
+            .flat_map(|p| [p.ms, p.ms_range.1])
             .filter(|v| v.is_finite())
             .fold(0.0f64, f64::max);
         let ms_max = if ms_max > 0.0 { ms_max } else { 1.0 };
@@ -197,10 +221,11 @@ fn error_label(rmse: f64) -> String {
 /// [`WIDTH`] x [`HEIGHT`] pixels.
 #[must_use]
 pub fn error_vs_time(title: &str, points: &[PlotPoint]) -> Rgb8Image {
+    let height = height_for(points.len());
     let mut img = Rgb8Image {
         width: WIDTH,
-        height: HEIGHT,
-        data: vec![255; (WIDTH * HEIGHT * 3) as usize],
+        height,
+        data: vec![255; WIDTH as usize * height as usize * 3],
     };
     let axes = Axes::fit(points);
     let (left, top, right, bottom) = AREA;
@@ -264,7 +289,7 @@ pub fn error_vs_time(title: &str, points: &[PlotPoint]) -> Rgb8Image {
 
     // Titles.
     draw_text(&mut img, left, 16, title, TEXT, BLACK);
-    let x_title = "time per frame (ms, median)";
+    let x_title = "time per frame (ms): median, bar from min to max";
     draw_text(
         &mut img,
         (left + right) / 2 - width_of(x_title) / 2,
@@ -282,30 +307,38 @@ pub fn error_vs_time(title: &str, points: &[PlotPoint]) -> Rgb8Image {
         BLACK,
     );
 
-    // Markers, then the legend: marker, name, and its numbers on a second line.
+    // Time bars (min to max, with end caps), markers over them, then the legend: marker,
+    // name, and its numbers on a second line.
     for (i, p) in points.iter().enumerate() {
-        let shape = SHAPES[i % SHAPES.len()];
-        marker(
-            &mut img,
-            axes.x(p.ms),
-            axes.y(p.rmse),
-            shape,
-            PALETTE[i % PALETTE.len()],
-        );
+        let (lo, hi) = p.ms_range;
+        if lo.is_finite() && hi.is_finite() && hi >= lo {
+            let (colour, _) = style(i);
+            let y = axes.y(p.rmse);
+            let (x0, x1) = (axes.x(lo), axes.x(hi));
+            for d in -1..=1 {
+                hline(&mut img, x0, x1, y + d, colour);
+            }
+            vline(&mut img, x0, y - 5, y + 5, colour);
+            vline(&mut img, x1, y - 5, y + 5, colour);
+        }
+    }
+    for (i, p) in points.iter().enumerate() {
+        let (colour, shape) = style(i);
+        marker(&mut img, axes.x(p.ms), axes.y(p.rmse), shape, colour);
     }
     draw_text(&mut img, LEGEND_X, top, "mode", TEXT, BLACK);
     for (i, p) in points.iter().enumerate() {
-        let y = top + 30 + i as i64 * 2 * (th + 9);
-        let shape = SHAPES[i % SHAPES.len()];
-        marker(
-            &mut img,
-            LEGEND_X + MARKER,
-            y + th / 2,
-            shape,
-            PALETTE[i % PALETTE.len()],
-        );
+        let y = top + 30 + i as i64 * legend_step();
+        let (colour, shape) = style(i);
+        marker(&mut img, LEGEND_X + MARKER, y + th / 2, shape, colour);
         draw_text(&mut img, LEGEND_X + 3 * MARKER, y, &p.label, TEXT, BLACK);
-        let numbers = format!("{:.1} ms, rmse {}", p.ms, error_label(p.rmse));
+        let numbers = format!(
+            "{:.1} ms ({:.1}-{:.1}), rmse {}",
+            p.ms,
+            p.ms_range.0,
+            p.ms_range.1,
+            error_label(p.rmse)
+        );
         draw_text(
             &mut img,
             LEGEND_X + 3 * MARKER,
@@ -333,21 +366,25 @@ mod tests {
             PlotPoint {
                 label: "gouraud".into(),
                 ms: 50.0,
+                ms_range: (50.0, 50.0),
                 rmse: 1e-2,
             },
             PlotPoint {
                 label: "phong".into(),
                 ms: 100.0,
+                ms_range: (100.0, 100.0),
                 rmse: 1e-3,
             },
             PlotPoint {
                 label: "flat".into(),
                 ms: 20.0,
+                ms_range: (20.0, 20.0),
                 rmse: 1e-1,
             },
             PlotPoint {
                 label: "reference".into(),
                 ms: 80.0,
+                ms_range: (80.0, 80.0),
                 rmse: 0.0,
             },
         ]
@@ -419,6 +456,33 @@ mod tests {
     }
 
     #[test]
+    fn twelve_modes_get_distinct_markers_a_whole_legend_and_time_bars() {
+        let styles: Vec<_> = (0..12).map(style).collect();
+        for i in 0..12 {
+            for j in 0..i {
+                assert_ne!(styles[i], styles[j], "modes {j} and {i} share a marker");
+            }
+        }
+        let pts: Vec<PlotPoint> = (0..12)
+            .map(|i| PlotPoint {
+                label: format!("mode {i}"),
+                ms: 10.0 + f64::from(i),
+                ms_range: (5.0 + f64::from(i), 40.0),
+                rmse: 1e-3,
+            })
+            .collect();
+        let img = error_vs_time("t", &pts);
+        assert_eq!(img.height, height_for(12));
+        // The last legend entry's marker is inside the image, in its colour.
+        let y = AREA.1 + 30 + 11 * legend_step() + i64::from(text_height(TEXT)) / 2;
+        assert!(y < i64::from(img.height));
+        assert_eq!(at(&img, LEGEND_X + MARKER, y), style(11).0);
+        // The last mode's bar reaches its slowest frame, right of the marker.
+        let axes = Axes::fit(&pts);
+        assert_eq!(at(&img, axes.x(38.0), axes.y(1e-3)), style(11).0);
+    }
+
+    #[test]
     fn plot_survives_empty_and_degenerate_input() {
         let img = error_vs_time("", &[]);
         assert_eq!(img.data.len(), (WIDTH * HEIGHT * 3) as usize);
@@ -427,6 +491,7 @@ mod tests {
             &[PlotPoint {
                 label: "nan".into(),
                 ms: f64::NAN,
+                ms_range: (f64::NAN, f64::INFINITY),
                 rmse: f64::INFINITY,
             }],
         );

@@ -38,23 +38,29 @@ fn out_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// One table row: milliseconds, relative time, RMSE, PSNR, max abs, share over 1/255 (%),
-/// the Mach measure and its ratio to the reference's (NaN where the table shows `-`).
+/// One table row: milliseconds (median, min, max), frames, relative time, RMSE, PSNR, max abs,
+/// max displayed codes, share over one code (%), share drawn as phong (%), the Mach measure
+/// and its ratio to the reference's (NaN where the table shows `-`).
 #[derive(Debug)]
 struct Row {
     ms: f64,
+    ms_min: f64,
+    ms_max: f64,
+    frames: f64,
     rmse: f64,
     psnr_db: f64,
     max_abs: f64,
+    max_codes: f64,
     share_percent: f64,
+    as_phong_percent: f64,
     mach: f64,
     mach_ratio: f64,
 }
 
 /// Numbers after the label in each row.
-const NUMBERS: usize = 8;
+const NUMBERS: usize = 13;
 
-/// The row of `mode` in the table (the label is everything before the eight numbers).
+/// The row of `mode` in the table (the label is everything before the numbers).
 fn row(stdout: &str, mode: &str) -> Row {
     let line = stdout
         .lines()
@@ -74,11 +80,16 @@ fn row(stdout: &str, mode: &str) -> Row {
             .unwrap_or_else(|_| panic!("`{s}` in `{line}` is not a number"))
     };
     Row {
-        ms: num(fields[n - 8]),
-        rmse: num(fields[n - 6]),
-        psnr_db: num(fields[n - 5]),
-        max_abs: num(fields[n - 4]),
-        share_percent: num(fields[n - 3]),
+        ms: num(fields[n - 13]),
+        ms_min: num(fields[n - 12]),
+        ms_max: num(fields[n - 11]),
+        frames: num(fields[n - 10]),
+        rmse: num(fields[n - 8]),
+        psnr_db: num(fields[n - 7]),
+        max_abs: num(fields[n - 6]),
+        max_codes: num(fields[n - 5]),
+        share_percent: num(fields[n - 4]),
+        as_phong_percent: num(fields[n - 3]),
         mach: num(fields[n - 2]),
         mach_ratio: num(fields[n - 1]),
     }
@@ -100,8 +111,17 @@ fn assert_report(out: &Output, dir: &Path) -> String {
     for mode in MODES {
         let r = row(&stdout, mode);
         assert!(r.ms > 0.0 && r.ms.is_finite(), "{mode}: {r:?}");
+        assert!(r.ms_min <= r.ms && r.ms <= r.ms_max, "{mode}: {r:?}");
+        assert!(r.frames >= 1.0, "{mode}: {r:?}");
         assert!((0.0..=1.0).contains(&r.rmse), "{mode}: {r:?}");
+        assert!((0.0..=255.0).contains(&r.max_codes), "{mode}: {r:?}");
         assert!((0.0..=100.0).contains(&r.share_percent), "{mode}: {r:?}");
+        // The share drawn as phong is shown for the fast-Phong rows only.
+        assert_eq!(
+            mode.starts_with("fast-phong"),
+            (0.0..=100.0).contains(&r.as_phong_percent),
+            "{mode}: {r:?}"
+        );
         let png = dir.join(format!("{}.png", file_stem(mode)));
         assert!(png.is_file(), "{} missing", png.display());
         if mode != "reference" {
@@ -123,7 +143,33 @@ fn assert_report(out: &Output, dir: &Path) -> String {
     );
     assert_eq!(reference.rmse, 0.0);
     assert_eq!(reference.max_abs, 0.0);
+    assert_eq!(reference.max_codes, 0.0);
     assert!(reference.psnr_db.is_infinite());
+    // Every row in the CSV file, with the same median.
+    let csv = std::fs::read_to_string(dir.join("accuracy.csv")).expect("the CSV is written");
+    let mut lines = csv.lines();
+    assert!(
+        lines
+            .next()
+            .expect("a header")
+            .starts_with("mode,frames,ms_min,ms_median,ms_max,"),
+        "{csv}"
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), MODES.len(), "{csv}");
+    for mode in MODES {
+        let line = rows
+            .iter()
+            .find(|l| l.starts_with(&format!("\"{mode}\",")))
+            .unwrap_or_else(|| panic!("no CSV row for {mode}:\n{csv}"));
+        let median: f64 = line
+            .split(',')
+            .nth(3)
+            .expect("ms_median")
+            .parse()
+            .expect("number");
+        assert!((median - row(&stdout, mode).ms).abs() < 0.01, "{line}");
+    }
     let plot = dir.join("error-vs-time.png");
     let bytes = std::fs::read(&plot).expect("the plot is written");
     assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "the plot is a PNG");
@@ -168,7 +214,25 @@ fn report_on_the_default_scene_has_every_mode_and_writes_every_file() {
         "--out-dir",
         d,
     ]);
-    assert_report(&out, &dir);
+    let stdout = assert_report(&out, &dir);
+    // The default scene's torus gets the geometric reference: the mesh's own error shows in
+    // the reference's row there, above zero.
+    assert!(
+        stdout.contains("against the geometric reference"),
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(dir.join("accuracy.csv")).expect("the CSV is written");
+    let reference = csv
+        .lines()
+        .find(|l| l.starts_with("\"reference\","))
+        .expect("reference row");
+    let geometric_rmse: f64 = reference
+        .split(',')
+        .nth(14)
+        .expect("geometric_rmse")
+        .parse()
+        .expect("a number");
+    assert!(geometric_rmse > 0.0, "{reference}");
 }
 
 #[test]

@@ -255,3 +255,38 @@ fn normalize_unit_centres_and_scales_to_the_unit_sphere() {
     let (lo, hi) = m.bounds();
     assert!(((lo + hi) * 0.5).length() < 1e-6);
 }
+
+#[test]
+fn vertex_normal_at_an_asymmetric_vertex_follows_each_weighting() {
+    // Three faces around the origin with different areas and angles there:
+    // (O, (2,0,0), (0,1,0)): normal +z, area 1, angle 90 deg;
+    // (O, (0,1,0), (0,0,1)): normal +x, area 1/2, angle 90 deg;
+    // (O, (0,0,1), (1,0,1)): normal +y, area 1/2, angle 45 deg.
+    let text = "v 0 0 0\nv 2 0 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 5\n";
+    let expected = [
+        // The notes' N_v = sum N_k / |sum N_k|.
+        (Weighting::Uniform, Vec3::new(1.0, 1.0, 1.0)),
+        // Areas 1/2, 1/2, 1 on +x, +y, +z.
+        (Weighting::Area, Vec3::new(0.5, 0.5, 1.0)),
+        // Angles pi/2, pi/4, pi/2 on +x, +y, +z.
+        (Weighting::Angle, Vec3::new(2.0, 1.0, 2.0)),
+    ];
+    for (weighting, direction) in expected {
+        let m = parse(text, &NormalOptions::smooth_all(weighting));
+        let at_origin: Vec<Vec3> = m
+            .positions
+            .iter()
+            .zip(&m.normals)
+            .filter(|(p, _)| **p == Vec3::ZERO)
+            .map(|(_, n)| *n)
+            .collect();
+        assert!(!at_origin.is_empty(), "{weighting:?}");
+        for n in at_origin {
+            assert!(
+                (n - direction.normalize()).length() < 1e-6,
+                "{weighting:?}: {n} against {}",
+                direction.normalize()
+            );
+        }
+    }
+}

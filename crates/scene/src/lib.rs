@@ -57,6 +57,7 @@ pub mod budget;
 pub mod builtin;
 pub mod components;
 pub mod error;
+pub mod error_bound;
 pub mod file;
 pub mod plan;
 pub mod preset;
@@ -70,10 +71,11 @@ pub use components::{
     SceneMesh, Shading, ShadingChoice, Transform,
 };
 pub use error::SceneError;
+pub use error_bound::{ErrorBounds, shading_error_bounds};
 pub use file::load::{Disk, Files, MAX_SCENE_BYTES, load_scene, parse_scene};
 pub use file::save::{save_scene, scene_to_toml};
 pub use plan::{
-    AUTO_TOLERANCE, AutoInput, FAST_PHONG_MIN_PIXELS, FrameOptions, FramePlan, PlannedObject,
+    AUTO_TOLERANCE, AutoInput, FrameOptions, FramePlan, PlannedObject, linear_tolerance,
     pixels_per_triangle, plan_frame,
 };
 pub use render::{FrameReport, draw_items, raster_options, render_frame};

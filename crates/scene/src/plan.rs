@@ -17,8 +17,9 @@
 //! produce ([`phosphor_lighting::effects_for`]), plus BUMP for a bump-mapped object drawn per
 //! pixel. The raster kernel is compiled per effect set, so an absent term costs nothing.
 //!
-//! Shading `auto` uses the lecture notes' conditions for flat shading, with error estimates against
-//! one 8-bit code ([`AUTO_TOLERANCE`]): see [`choose_mode`].
+//! Shading `auto` takes `flat` or `gouraud` only where a proven bound of their error against
+//! `reference` is within one displayed 8-bit code ([`AUTO_TOLERANCE`]) on every triangle, and
+//! `phong` elsewhere: see [`choose_mode`].
 
 use std::collections::HashMap;
 use std::fmt;
@@ -26,29 +27,19 @@ use std::sync::Arc;
 
 use glam::{Mat4, Vec3, Vec4};
 use hecs::Entity;
-use phosphor_lighting::{
-    Attenuation, Effects, Light, LightKind, LightSet, Material, SpecularModel,
-};
-use phosphor_raster::{Antialias, BumpMap, Camera, Projection, ShadingMode, Texture};
+use phosphor_lighting::{Effects, Light, LightKind, LightSet, Material};
+use phosphor_raster::encode::srgb_encode;
+use phosphor_raster::{Antialias, BumpMap, Camera, Encoding, Projection, ShadingMode, Texture};
 
 use crate::components::{
     Bump, MeshInfo, MeshRef, Name, SceneMesh, Shading, ShadingChoice, Transform,
 };
+use crate::error_bound::{ErrorBounds, shading_error_bounds};
 use crate::textures::ColorMap;
 use crate::{CullChoice, Scene};
 
 /// `auto` accepts a cheaper mode when its estimated error is at most this (one 8-bit code).
 pub const AUTO_TOLERANCE: f32 = 1.0 / 255.0;
-
-/// `auto` picks `fast-phong` over `phong` only where an object's triangles cover at least this
-/// many pixels each on average (estimated, [`pixels_per_triangle`]): below it fast Phong fits
-/// almost no triangle (it fits only those of `MIN_FIT_AREA_PX`, 128 px, or more, and shades
-/// the rest as `phong` does) and its per-triangle checks cost a few percent. Measured on S1's
-/// sphere at 1920x1080 with the spheres `auto` sends to this rule (128 to 256 segments), in
-/// instructions (callgrind, one thread, two frames; `phosphor bench SCENE --threads 1
-/// --frames 1`), fast-phong against phong: 497 against 671 M at 128 segments (est. 83 px per
-/// triangle), 675 against 763 M at 192 (37 px), 885 against 872 M at 256 (21 px).
-pub const FAST_PHONG_MIN_PIXELS: f32 = 32.0;
 
 /// Estimated screen pixels per front-facing triangle of an object with bounding sphere
 /// (`center`, `radius`) and `triangles` triangles, seen from `eye` with vertical field of view
@@ -267,26 +258,6 @@ fn angle(a: Vec3, b: Vec3) -> f32 {
     a.cross(b).length().atan2(a.dot(b))
 }
 
-/// Where a light sits, for range tests: a point and the radius of the region it spans.
-fn light_extent(l: &Light) -> Option<(Vec3, f32)> {
-    match l.kind {
-        LightKind::Directional { .. } => None,
-        LightKind::Point { position } | LightKind::Spot { position, .. } => Some((position, 0.0)),
-        LightKind::Tube { start, end, .. } => {
-            Some(((start + end) * 0.5, start.distance(end) * 0.5))
-        }
-        LightKind::Rect {
-            corner,
-            edge_u,
-            edge_v,
-            ..
-        } => Some((
-            corner + (edge_u + edge_v) * 0.5,
-            (edge_u + edge_v).length().max((edge_u - edge_v).length()) * 0.5,
-        )),
-    }
-}
-
 /// The corners of the object's bounds in world space: their convex hull holds the object.
 fn world_corners(info: &MeshInfo, model: Mat4) -> [Vec3; 8] {
     let (lo, hi) = info.bounds;
@@ -373,96 +344,113 @@ fn reaches(light: &Light, s: Sphere, corners: &[Vec3; 8], cone: Option<(Vec3, f3
     true
 }
 
-/// The largest attenuation factor over distances `>= d`, and the relative change of the
-/// factor over a step of `e` at `d`.
-fn attenuation_at(att: Attenuation, d: f32, e: f32) -> (f32, f32) {
-    let [c, l, q] = att.coefficients();
-    let f = att.factor(d);
-    let denom = c + l * d + q * d * d;
-    let slope = if denom > 0.0 {
-        (l + 2.0 * q * d) / denom
-    } else {
-        1.0
-    };
-    (f, (slope * e).min(1.0))
-}
-
-/// How far N.L (and V.R) can vary over one face because the light or the eye is near.
-struct Figures {
-    flat_error: f32,
-    gouraud_error: f32,
-}
-
-fn error_figures(
-    m: &Material,
-    effects: Effects,
-    lights: &[&Light],
-    info: &MeshInfo,
-    s: Sphere,
-    eye: Vec3,
-    scale: f32,
-) -> Figures {
-    let e = info.max_edge * scale;
-    let spread = info.max_normal_spread;
-    let kd = if effects.contains(Effects::DIFFUSE) {
-        m.kd.max_element()
-    } else {
-        0.0
-    };
-    let ks = if effects.contains(Effects::SPECULAR) {
-        m.ks.max_element() * m.fresnel.max_w()
-    } else {
-        0.0
-    };
-    let slope_spec = m.shininess.max(1.0).sqrt();
-    let d_eye = (eye.distance(s.center) - s.radius).max(0.0);
-    let dv = if d_eye > 0.0 {
-        e / d_eye
-    } else {
-        f32::INFINITY
-    };
-    let mut flat = 0.0f32;
-    let mut gouraud = 0.0f32;
-    for l in lights {
-        let il = l.intensity.max_element().max(l.specular_il().max_element());
-        let (dl, (f, da)) = match light_extent(l) {
-            None => (0.0, (1.0, 0.0)),
-            Some((p, extent)) => {
-                let d = (p.distance(s.center) - s.radius - extent).max(0.0);
-                let dl = if d > 0.0 {
-                    (e + extent) / d
-                } else {
-                    f32::INFINITY
-                };
-                let att = if effects.contains(Effects::ATTENUATION) {
-                    l.attenuation
-                } else {
-                    Attenuation::None
-                };
-                (dl, attenuation_at(att, d, e))
+/// The largest linear error whose displayed error is at most one code for every true value
+/// of at least `lowest`: linear encoding 1/255; sRGB, being concave, shows a linear error
+/// largest at the lowest value, so the step from `lowest` to the value one code above it.
+#[must_use]
+pub fn linear_tolerance(lowest: f32, encoding: Encoding) -> f32 {
+    match encoding {
+        Encoding::Linear => AUTO_TOLERANCE,
+        Encoding::Srgb => {
+            let lo = if lowest.is_finite() {
+                lowest.clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let up = srgb_encode(lo) + AUTO_TOLERANCE;
+            if up >= 1.0 {
+                return 1.0 - lo;
             }
-        };
-        let i = il * f;
-        // Flat: the face's single value against the exact one, first order in the variation
-        // of N.L (light direction), V.R (light and eye) and f(d) across a face.
-        flat += i * (kd * (dl + da) + ks * (slope_spec * (dl + dv) + da));
-        // Gouraud (diffuse only): linear interpolation of a cosine over an angle theta is off
-        // by about theta^2 / 8; the attenuation's curvature likewise.
-        let theta = spread + dl;
-        gouraud += i * kd * (theta * theta / 8.0 + da * da / 8.0);
+            // Inverse sRGB, rounded down a little so the round trip stays under one code.
+            let lin = if up <= 0.040_45 {
+                up / 12.92
+            } else {
+                ((up + 0.055) / 1.055).powf(2.4)
+            };
+            ((lin - lo) * 0.999).max(0.0)
+        }
     }
-    Figures {
-        flat_error: if flat.is_finite() {
-            flat
-        } else {
-            f32::INFINITY
-        },
-        gouraud_error: if gouraud.is_finite() {
-            gouraud
-        } else {
-            f32::INFINITY
-        },
+}
+
+/// A linear error as displayed codes above `lowest` (for the plan's reasons; finite).
+fn codes(err: f32, lowest: f32, encoding: Encoding) -> f32 {
+    let lo = if lowest.is_finite() {
+        lowest.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let err = if err.is_finite() { err.min(1.0) } else { 1.0 };
+    match encoding {
+        Encoding::Linear => err * 255.0,
+        Encoding::Srgb => (srgb_encode(lo + err) - srgb_encode(lo)) * 255.0,
     }
+}
+
+/// The largest flat and gouraud error bounds ([`shading_error_bounds`]) over the triangles of
+/// `mesh` drawn with `model`, stopping early once every mode still asked about (`flat` only
+/// when `want_flat`) is over `tolerance`: the triangles are visited in strides across the
+/// whole mesh so that a failing region is met early. Returns the bounds and whether the scan
+/// stopped early (then they are lower bounds of the object's bounds, still over `tolerance`).
+/// With `skip_back_faces` (back faces culled, perspective view: a face is back-facing on
+/// screen exactly when the eye lies behind its plane) faces the eye sees from behind are
+/// left out.
+fn object_error_bounds(
+    set: &LightSet,
+    material: &Material,
+    mesh: &phosphor_mesh::Mesh,
+    model: Mat4,
+    eye: Vec3,
+    (vertex_clamp, want_flat, tolerance): (bool, bool, f32),
+    skip_back_faces: bool,
+) -> (ErrorBounds, bool) {
+    let m3 = glam::Mat3::from_mat4(model);
+    let normal_matrix = {
+        let nm = m3.inverse().transpose();
+        if nm.is_finite() { nm } else { m3 }
+    };
+    let corner = |i: u32| {
+        let i = i as usize;
+        let p = mesh
+            .positions
+            .get(i)
+            .map_or(Vec3::NAN, |p| model.transform_point3(*p));
+        let n = mesh
+            .normals
+            .get(i)
+            .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
+        (p, n)
+    };
+    let count = mesh.indices.len();
+    const STRIDE: usize = 97;
+    let mut worst = ErrorBounds::ZERO;
+    for start in 0..STRIDE.min(count) {
+        for t in (start..count).step_by(STRIDE) {
+            let [a, b, c] = mesh.indices[t].map(corner);
+            // A face the eye sees from behind is culled: none of its pixels are drawn. The
+            // margin (the view ray at least 0.6 degrees behind the plane) keeps faces seen
+            // edge-on, which snapping to 1/256 pixel may turn front-facing, in the bound.
+            let normal = (b.0 - a.0).cross(c.0 - a.0);
+            let to_eye = eye - a.0;
+            let facing = normal.dot(to_eye);
+            if skip_back_faces && facing < -0.01 * normal.length() * to_eye.length() {
+                continue;
+            }
+            let bound = shading_error_bounds(
+                set,
+                material,
+                [a.0, b.0, c.0],
+                [a.1, b.1, c.1],
+                eye,
+                vertex_clamp,
+            );
+            worst.flat = worst.flat.max(bound.flat);
+            worst.gouraud = worst.gouraud.max(bound.gouraud);
+            if (!want_flat || worst.flat > tolerance) && worst.gouraud > tolerance {
+                return (worst, true);
+            }
+        }
+    }
+    (worst, false)
 }
 
 /// What `auto` looks at for one object.
@@ -472,44 +460,51 @@ pub struct AutoInput<'a> {
     pub material: &'a Material,
     /// The planned effects.
     pub effects: Effects,
-    /// The lights that reach the object.
-    pub lights: &'a [&'a Light],
+    /// The lights that reach the object, prepared.
+    pub set: &'a LightSet,
+    /// The mesh.
+    pub mesh: &'a phosphor_mesh::Mesh,
     /// The mesh figures.
     pub info: &'a MeshInfo,
-    /// World bounding-sphere centre.
-    pub center: Vec3,
-    /// World bounding-sphere radius.
-    pub radius: f32,
-    /// Largest scale factor of the object's transform.
-    pub scale: f32,
+    /// Object to world.
+    pub model: Mat4,
     /// The viewer.
     pub eye: Vec3,
     /// Whether a bump map applies.
     pub bumped: bool,
-    /// Estimated screen pixels per front-facing triangle ([`pixels_per_triangle`]).
-    pub pixels_per_triangle: f32,
+    /// Whether a texture or vertex colours tint the shading.
+    pub tinted: bool,
+    /// `gouraud` clamps each vertex to 1 ([`FrameOptions::gouraud_vertex_clamp`]).
+    pub vertex_clamp: bool,
+    /// How the picture is displayed: one code is measured in this encoding.
+    pub encoding: Encoding,
+    /// Back faces are culled and the view is a perspective one from `eye`: faces seen from
+    /// behind draw no pixel and need no bound.
+    pub skip_back_faces: bool,
 }
 
-/// `auto`: the cheapest mode that is good enough, with the reason.
+/// `auto`: the cheapest mode whose error against `reference` is proven at most one displayed
+/// code on every pixel, with the reason.
 ///
-/// - `flat` where the object is a polyhedron (the lecture notes' condition c) and lights and viewer
-///   are far enough that N.L and V.R barely vary over a face (conditions a and b): estimated
-///   error at most [`AUTO_TOLERANCE`].
-/// - `gouraud` where there is no specular term and the mesh is fine relative to the light's
-///   variation (estimated interpolation error at most the tolerance).
-/// - `phong` where highlights are smaller than the triangles (the highlight's half-width in
-///   normal angle is less than the normals' spread within a typical triangle, the 90th
-///   percentile), and for bump maps.
-/// - `fast-phong` otherwise: the highlights span several triangles, where a quadratic
-///   fit holds (and its per-triangle fallback guards the rest), provided the triangles
-///   are large enough on screen for its fit to pay ([`FAST_PHONG_MIN_PIXELS`]); `phong`
-///   where they are not.
+/// - `flat` where nothing lit varies (no light reaches a diffuse or specular term), or where
+///   the object is a polyhedron (the lecture notes' condition c) and the bound of
+///   [`shading_error_bounds`] over every triangle is within one code (conditions a and b, lights
+///   and viewer far enough, made exact);
+/// - `gouraud` where that bound for `gouraud` is within one code on every triangle (terminators,
+///   spot-cone edges, attenuation, highlights between vertices and the vertex clamp are all
+///   inside the bound);
+/// - `phong` otherwise (the model per pixel in f32: within 1e-5 of `reference` untextured),
+///   and for bump maps, textures and vertex colours, which the bounds do not cover.
+///   `fast-phong` is never chosen: its fit is checked at ten points, not bounded between them.
+///
+/// One code is [`AUTO_TOLERANCE`] in the scene's encoding: for sRGB, the linear step
+/// ([`linear_tolerance`]) above the object's lowest intensity, its ambient and emission term.
 #[must_use]
 pub fn choose_mode(o: &AutoInput<'_>) -> (ShadingMode, String) {
     let AutoInput {
         material,
         effects,
-        lights,
+        set,
         info,
         ..
     } = *o;
@@ -519,87 +514,67 @@ pub fn choose_mode(o: &AutoInput<'_>) -> (ShadingMode, String) {
             "bump-mapped: normals vary per pixel".to_owned(),
         );
     }
-    let s = Sphere {
-        center: o.center,
-        radius: o.radius,
-    };
-    let fig = error_figures(material, effects, lights, info, s, o.eye, o.scale);
+    if o.tinted {
+        return (
+            ShadingMode::Phong,
+            "textured or vertex-coloured: the error bounds cover untinted shading".to_owned(),
+        );
+    }
     let lit = !effects
         .intersection(Effects::DIFFUSE | Effects::SPECULAR)
         .is_empty()
-        && !lights.is_empty();
+        && !set.is_empty();
     if !lit {
         return (
             ShadingMode::Flat,
             "unlit: ambient and emission are constant".to_owned(),
         );
     }
-    if info.polyhedron && fig.flat_error <= AUTO_TOLERANCE {
+    let ambient = material.emission + material.ka * set.ambient();
+    let lowest = ambient.min_element();
+    let tolerance = linear_tolerance(lowest, o.encoding);
+    let (bounds, partial) = object_error_bounds(
+        set,
+        material,
+        o.mesh,
+        o.model,
+        o.eye,
+        (o.vertex_clamp, info.polyhedron, tolerance),
+        o.skip_back_faces,
+    );
+    let show = |err: f32| {
+        let c = codes(err, lowest, o.encoding);
+        if partial && err > tolerance {
+            format!("over one code ({c:.1} on a triangle)")
+        } else {
+            format!("{c:.2} codes")
+        }
+    };
+    if info.polyhedron && bounds.flat <= tolerance {
         return (
             ShadingMode::Flat,
             format!(
-                "polyhedron, lights and viewer far (est. error {:.4} <= 1/255)",
-                fig.flat_error
+                "polyhedron; flat proven within {} of reference",
+                show(bounds.flat)
             ),
         );
     }
-    if !effects.contains(Effects::SPECULAR) && fig.gouraud_error <= AUTO_TOLERANCE {
+    if bounds.gouraud <= tolerance {
         return (
             ShadingMode::Gouraud,
             format!(
-                "no specular term, normals within {:.1} deg per triangle (est. error {:.4} <= 1/255)",
-                info.max_normal_spread.to_degrees(),
-                fig.gouraud_error
+                "gouraud proven within {} of reference",
+                show(bounds.gouraud)
             ),
         );
     }
-    // Fast Phong only pays on triangles large on screen; elsewhere Phong is both exact and
-    // faster.
-    let px = o.pixels_per_triangle;
-    let per_pixel = |why: String| {
-        if px >= FAST_PHONG_MIN_PIXELS {
-            (
-                ShadingMode::FastPhong,
-                format!("{why}; triangles large on screen (est. {px:.0} px each)"),
-            )
-        } else {
-            (
-                ShadingMode::Phong,
-                format!(
-                    "{why}; triangles too small on screen for fast Phong to pay (est. {px:.0} < {FAST_PHONG_MIN_PIXELS:.0} px each)"
-                ),
-            )
-        }
-    };
-    if !effects.contains(Effects::SPECULAR) {
-        return per_pixel(format!(
-            "no specular term but coarse for its lights (est. gouraud error {:.4} > 1/255)",
-            fig.gouraud_error
-        ));
-    }
-    // Half-width of the highlight at half intensity, in the angle of the normal: (R.V)^n
-    // turns twice as fast as N; (N.H)^n as fast as N.
-    let lobe = 0.5f32.powf(1.0 / material.shininess.max(1e-3)).acos();
-    let half_width = match material.specular {
-        SpecularModel::Phong => lobe * 0.5,
-        SpecularModel::Blinn => lobe,
-    };
-    if half_width < info.typical_normal_spread {
-        (
-            ShadingMode::Phong,
-            format!(
-                "highlight (half-width {:.1} deg) smaller than triangles (normal spread {:.1} deg)",
-                half_width.to_degrees(),
-                info.typical_normal_spread.to_degrees()
-            ),
-        )
-    } else {
-        per_pixel(format!(
-            "highlight (half-width {:.1} deg) spans triangles (normal spread {:.1} deg)",
-            half_width.to_degrees(),
-            info.typical_normal_spread.to_degrees()
-        ))
-    }
+    (
+        ShadingMode::Phong,
+        format!(
+            "gouraud bound {}: phong, the model per pixel",
+            show(bounds.gouraud)
+        ),
+    )
 }
 
 /// Builds the plan of one frame seen by `camera` in a `viewport` of width x height pixels.
@@ -690,7 +665,13 @@ pub fn plan_frame(
         };
         let set = &plan.light_sets[set_index];
         let mut effects = phosphor_lighting::effects_for(set, &material);
-        let kept_lights: Vec<&Light> = kept.iter().map(|&i| &lights[i].1).collect();
+        let (cull_backfaces, cull_reason) = cull_decision(
+            scene.settings.cull_backfaces,
+            &mesh.info,
+            model,
+            camera,
+            aspect,
+        );
         let choice = opts.shading.or(shading).unwrap_or(scene.settings.shading);
         let (mode, reason) = match (choice, opts.shading.is_some(), shading.is_some()) {
             (ShadingChoice::Mode(m), true, _) => (m, "forced for every object".to_owned()),
@@ -699,28 +680,19 @@ pub fn plan_frame(
             (ShadingChoice::Auto, _, _) => choose_mode(&AutoInput {
                 material: &material,
                 effects,
-                lights: &kept_lights,
+                set,
+                mesh: &mesh.mesh,
                 info: &mesh.info,
-                center: sphere.center,
-                radius: sphere.radius,
-                scale,
+                model,
                 eye: camera.eye,
                 bumped,
-                pixels_per_triangle: match camera.projection {
-                    Projection::Perspective => pixels_per_triangle(
-                        (sphere.center, sphere.radius),
-                        camera.eye,
-                        camera.fov_y_deg,
-                        viewport,
-                        mesh.mesh.indices.len(),
-                    ),
-                    Projection::Orthographic { height } => pixels_per_triangle_orthographic(
-                        sphere.radius,
-                        height,
-                        viewport,
-                        mesh.mesh.indices.len(),
-                    ),
-                },
+                tinted: texture.is_some() || mesh.mesh.colors.is_some(),
+                vertex_clamp: opts
+                    .gouraud_vertex_clamp
+                    .unwrap_or(scene.settings.gouraud_vertex_clamp),
+                encoding: scene.settings.encoding,
+                skip_back_faces: cull_backfaces
+                    && matches!(camera.projection, Projection::Perspective),
             }),
         };
         let per_pixel = matches!(
@@ -729,13 +701,6 @@ pub fn plan_frame(
         );
         let bump = if bumped && per_pixel { bump } else { None };
         effects = effects.with(Effects::BUMP, bump.is_some());
-        let (cull_backfaces, cull_reason) = cull_decision(
-            scene.settings.cull_backfaces,
-            &mesh.info,
-            model,
-            camera,
-            aspect,
-        );
         plan.objects.push(PlannedObject {
             entity,
             name,

@@ -197,15 +197,19 @@ pub struct AccuracyArgs {
     /// gets a row of its own.
     #[command(flatten)]
     pub variants: VariantArgs,
-    /// Frames timed per mode (the median is reported).
+    /// Frames timed per mode: each is timed until N frames are drawn or half a second has
+    /// passed, whichever comes first (at least 3); min, median and max are reported.
     #[arg(
         long,
         help_heading = MEASURING_HEADING,
         value_name = "N",
-        default_value_t = 3,
+        default_value_t = 20,
         value_parser = clap::value_parser!(u32).range(1..)
     )]
     pub frames: u32,
+    /// Also write every row to this CSV file (mode, frames, ms min/median/max, errors).
+    #[arg(long, help_heading = OUTPUT_HEADING, value_name = "FILE.csv")]
+    pub csv: Option<PathBuf>,
     /// Camera flags.
     #[command(flatten)]
     pub camera: CameraArgs,

@@ -1,9 +1,15 @@
 //! `phosphor accuracy`: what accuracy costs in time. Renders the scene in every mode (and `phong`,
 //! `gouraud` once more with screen-space interpolation, the lecture notes' scan-line formulas),
-//! times each as the median of `--frames` frames after one untimed frame, compares each with
-//! `reference` and prints one aligned table row per mode. With `--out-dir`: each mode's image
-//! (`MODE.png`, encoded as the scene says), its error heat-map (`MODE-error.png`, false colour with
-//! a labelled scale bar; none for the reference, whose map would be black) and `error-vs-time.png`.
+//! times each over at least `--frames` frames or [`MIN_TIMED`] after one untimed frame (min,
+//! median and max), compares each with `reference` over the pixels it covers (linear values and
+//! displayed 8-bit codes) and prints one aligned table row per mode; `--csv` writes the rows
+//! to a file. With `--out-dir`: each mode's image (`MODE.png`, encoded as the scene says), its
+//! error heat-map (`MODE-error.png`, titled, false colour with a labelled scale bar; none for
+//! the reference, whose map would be black), `error-vs-time.png` and `accuracy.csv`.
+//!
+//! The `as phong` column of the fast-Phong rows is the share of covered pixels drawn exactly
+//! as `phong` draws them (bit for bit): the triangles its fit or expansion refused, and those
+//! too small to try.
 //!
 //! The fixed-mode rows force perspective-correct interpolation on or off, the fast-Phong method
 //! (`taylor`, Bishop and Weimer 1986; `fit`, six points) and the interpolation (`plane`, or
@@ -20,13 +26,15 @@ use std::time::{Duration, Instant};
 
 use indicatif::ProgressBar;
 use phosphor_math::glam::Vec3;
+use phosphor_raster::framebuffer::FAR_DEPTH;
 use phosphor_raster::{FastPhongMethod, Framebuffer, Interpolation, ShadingMode};
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
 
 use super::{framebuffer, size_field};
 use crate::CliError;
-use crate::accuracy::{ErrorStats, compare, heat_map, median, with_scale_labels};
+use crate::accuracy::{ErrorStats, compare, heat_map, spread, with_scale_labels, with_title};
 use crate::args::AccuracyArgs;
+use crate::geometric::geometric_reference;
 use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_pixel};
 use crate::mach::{EdgeJumps, JumpKind, TriangleIds, edge_jumps, jump_map, triangle_ids};
 use crate::output::{write_image, write_rgb8};
@@ -36,6 +44,13 @@ use crate::progress::{Progress, QUIET_FOR};
 /// Reference frames are timed only while they fit this budget (at least one is always timed):
 /// at large sizes one reference frame takes seconds, and the report must stay under a minute.
 const REFERENCE_BUDGET: Duration = Duration::from_secs(8);
+
+/// Every row is timed over at least `--frames` frames or this long, whichever comes first
+/// (and at least [`MIN_FRAMES`] frames): a stable median and spread on the shared machine.
+const MIN_TIMED: Duration = Duration::from_millis(500);
+
+/// The fewest timed frames of a row (the reference's budget aside).
+const MIN_FRAMES: u32 = 3;
 
 /// Largest error the heat-maps show in full colour (8 steps of an 8-bit display); larger errors
 /// saturate to white. One scale for every mode, so that their maps compare at a glance; fine
@@ -178,8 +193,16 @@ fn rows(args: &AccuracyArgs) -> Vec<Row> {
 /// A row once measured.
 struct Measured {
     row: Row,
-    /// Median milliseconds per frame.
+    /// Milliseconds per frame: median.
     ms: f64,
+    /// Milliseconds per frame: fastest and slowest.
+    ms_range: (f64, f64),
+    /// Frames timed.
+    frames: usize,
+    /// Fast-Phong rows: the share of covered pixels drawn exactly as `phong` draws them.
+    as_phong: Option<f64>,
+    /// Error against the geometric reference, where the scene has primitives to show it.
+    geometric: Option<ErrorStats>,
     /// Error against the reference.
     stats: ErrorStats,
     /// The Mach-band measure: mean jump across interior edges, and its ratio to the reference's.
@@ -229,25 +252,28 @@ fn reference_frames(requested: u32, first: Duration) -> u32 {
     requested.min((fit.floor() as u32).max(1))
 }
 
-/// Median milliseconds of `frames` timed frames of `row`; `tick` after each.
+/// Milliseconds of each timed frame of `row`: frames until `frames` are drawn or
+/// `min_time` has passed, whichever comes first, at least `min(frames, MIN_FRAMES)`; `tick`
+/// after each.
 fn time_frames(
     scene: &Scene,
     fb: &mut Framebuffer,
     row: Row,
-    frames: u32,
+    (frames, min_time): (u32, Duration),
     tick: &mut dyn FnMut(),
-) -> f64 {
+) -> Vec<f64> {
     let opts = options(row);
-    let times: Vec<f64> = (0..frames)
-        .map(|_| {
-            let start = Instant::now();
-            render_frame(scene, fb, &opts);
-            let ms = start.elapsed().as_secs_f64() * 1e3;
-            tick();
-            ms
-        })
-        .collect();
-    median(&times)
+    let begin = Instant::now();
+    let mut times = Vec::new();
+    while times.len() < frames as usize
+        && (times.len() < MIN_FRAMES.min(frames) as usize || begin.elapsed() < min_time)
+    {
+        let start = Instant::now();
+        render_frame(scene, fb, &opts);
+        times.push(start.elapsed().as_secs_f64() * 1e3);
+        tick();
+    }
+    times
 }
 
 /// Bytes per pixel the report holds at once: the framebuffer, the reference's and a mode's
@@ -328,16 +354,26 @@ fn ratio_cell(ratio: f64) -> String {
     }
 }
 
+/// A share in the table: percent with two decimals, `-` when not measured.
+fn share_cell(share: Option<f64>) -> String {
+    share.map_or_else(|| "-".to_owned(), |v| format!("{:.2}%", v * 100.0))
+}
+
 fn print_table(rows: &[Measured], gouraud_ms: f64) {
     say!(
-        "{:<22}  {:>9}  {:>10}  {:>9}  {:>9}  {:>9}  {:>7}  {:>7}  {:>8}",
+        "{:<22}  {:>8}  {:>8}  {:>8}  {:>6}  {:>10}  {:>9}  {:>9}  {:>9}  {:>9}  {:>8}  {:>8}  {:>7}  {:>8}",
         "mode",
-        "ms/frame",
+        "ms med",
+        "ms min",
+        "ms max",
+        "frames",
         "vs gouraud",
         "RMSE",
         "PSNR dB",
         "max abs",
-        ">1/255",
+        "max codes",
+        ">1 code",
+        "as phong",
         "mach",
         "mach/ref"
     );
@@ -348,18 +384,103 @@ fn print_table(rows: &[Measured], gouraud_ms: f64) {
             "-".to_owned()
         };
         say!(
-            "{:<22}  {:>9.1}  {:>10}  {:>9}  {:>9.2}  {:>9}  {:>6.2}%  {:>7}  {:>8}",
+            "{:<22}  {:>8.2}  {:>8.2}  {:>8.2}  {:>6}  {:>10}  {:>9}  {:>9.2}  {:>9}  {:>9.2}  {:>8}  {:>8}  {:>7}  {:>8}",
             m.row.label,
             m.ms,
+            m.ms_range.0,
+            m.ms_range.1,
+            m.frames,
             relative,
             error_cell(m.stats.rmse),
             m.stats.psnr_db,
             error_cell(m.stats.max_abs),
-            m.stats.share_over_lsb * 100.0,
+            m.stats.max_codes,
+            share_cell(Some(m.stats.share_over_code)),
+            share_cell(m.as_phong),
             mach_cell(m.mach.0),
             ratio_cell(m.mach.1)
         );
     }
+}
+
+/// The rows against the geometric reference: `reference`'s row is the mesh's own error
+/// (tessellation, normal averaging), every other row the mode's total.
+fn print_geometric(rows: &[Measured], pixels: usize) {
+    say!(
+        "against the geometric reference (the exact surfaces of the scene's spheres, cylinder sides and tori, f64; {pixels} pixels): reference's row is the mesh's own error"
+    );
+    say!(
+        "  {:<22}  {:>9}  {:>9}  {:>9}  {:>8}",
+        "mode",
+        "RMSE",
+        "max abs",
+        "max codes",
+        ">1 code"
+    );
+    for m in rows {
+        if let Some(g) = &m.geometric {
+            say!(
+                "  {:<22}  {:>9}  {:>9}  {:>9.2}  {:>8}",
+                m.row.label,
+                error_cell(g.rmse),
+                error_cell(g.max_abs),
+                g.max_codes,
+                share_cell(Some(g.share_over_code))
+            );
+        }
+    }
+}
+
+/// The rows as CSV (a header line, then one line per row; the label quoted).
+fn csv(rows: &[Measured]) -> String {
+    let mut out = String::from(
+        "mode,frames,ms_min,ms_median,ms_max,rmse,psnr_db,max_abs,max_codes,share_over_one_code,covered_pixels,as_phong,mach,mach_ratio,geometric_rmse,geometric_max_abs,geometric_max_codes\n",
+    );
+    let num = |v: f64| {
+        if v.is_finite() {
+            format!("{v}")
+        } else {
+            String::new()
+        }
+    };
+    for m in rows {
+        out += &format!(
+            "\"{}\",{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            m.row.label,
+            m.frames,
+            num(m.ms_range.0),
+            num(m.ms),
+            num(m.ms_range.1),
+            num(m.stats.rmse),
+            num(m.stats.psnr_db),
+            num(m.stats.max_abs),
+            num(m.stats.max_codes),
+            num(m.stats.share_over_code),
+            m.stats.covered,
+            m.as_phong.map_or(String::new(), num),
+            num(m.mach.0 * 255.0),
+            num(m.mach.1),
+            m.geometric.map_or(String::new(), |g| num(g.rmse)),
+            m.geometric.map_or(String::new(), |g| num(g.max_abs)),
+            m.geometric.map_or(String::new(), |g| num(g.max_codes)),
+        );
+    }
+    out
+}
+
+/// The share of `covered` pixels of `image` equal to `phong` bit for bit.
+fn share_as(image: &[Vec3], phong: &[Vec3], covered: &[bool]) -> Option<f64> {
+    let mut same = 0usize;
+    let mut count = 0usize;
+    for ((a, b), c) in image.iter().zip(phong).zip(covered) {
+        if *c {
+            count += 1;
+            if a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits) {
+                same += 1;
+            }
+        }
+    }
+    (count > 0).then(|| same as f64 / count as f64)
 }
 
 /// The lecture notes' timing claims, each beside the measured ratio to `gouraud` per frame
@@ -440,14 +561,21 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     frames
         .bar
         .set_length(frames.bar.length().unwrap_or(0).saturating_sub(untimed));
-    let reference_ms = time_frames(
+    let covered: Vec<bool> = fb.depth().iter().map(|&z| z < FAR_DEPTH).collect();
+    let reference_times = time_frames(
         &scene,
         &mut fb,
         reference_row,
-        reference_frames,
+        (reference_frames, Duration::ZERO),
         &mut || {
             frames.tick();
         },
+    );
+    // Phong's picture, for the share of fast Phong's pixels drawn exactly as phong.
+    let (phong_image, _, _) = render_image(
+        &scene,
+        &mut fb,
+        fixed(ShadingMode::Phong.name(), ShadingMode::Phong, true),
     );
 
     // The Mach measure's triangle ids, and the reference's own jumps of both kinds.
@@ -455,6 +583,13 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let reference_jumps = |kind| edge_jumps(&reference, &ids, kind);
     let reference_mach =
         [JumpKind::Value, JumpKind::Slope].map(|kind| (kind, reference_jumps(kind)));
+    let geometric = geometric_reference(&scene, &options(reference_row), &ids, &reference);
+    let geometric_pixels = geometric.count();
+    let against_geometric = |image: &[Vec3]| {
+        (geometric_pixels > 0)
+            .then(|| compare(image, &geometric.image, Some(&geometric.exact), encoding))
+            .flatten()
+    };
     let mach_of = |row: Row, image: &[Vec3]| -> Result<(f64, f64), CliError> {
         let kind = JumpKind::for_mode(row.mode());
         let jumps = edge_jumps(image, &ids, kind);
@@ -471,12 +606,17 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let mut measured = Vec::with_capacity(table.len());
     for row in table {
         if row.label == reference_row.label {
-            let stats = compare(&reference, &reference)
-                .ok_or_else(|| CliError::Input("the reference frame is empty".to_owned()))?;
+            let stats = compare(&reference, &reference, Some(&covered), encoding)
+                .ok_or_else(|| CliError::Input("the reference frame covers no pixel".to_owned()))?;
             let mach = mach_of(row, &reference)?;
+            let (lo, ms, hi) = spread(&reference_times);
             measured.push(Measured {
                 row,
-                ms: reference_ms,
+                ms,
+                ms_range: (lo, hi),
+                frames: reference_times.len(),
+                as_phong: None,
+                geometric: against_geometric(&reference),
                 stats,
                 mach,
                 pixels: reference_pixels,
@@ -486,19 +626,37 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         let (image, _, pixels) = render_image(&scene, &mut fb, row);
         frames.tick();
         save(&fb, row)?;
-        let stats = compare(&image, &reference)
+        let stats = compare(&image, &reference, Some(&covered), encoding)
             .ok_or_else(|| CliError::Input("frames of different sizes".to_owned()))?;
         if let Some(dir) = &out_dir {
             let map = heat_map(&image, &reference, width, height, HEAT_SCALE)
                 .ok_or_else(|| CliError::Input("frames of different sizes".to_owned()))?;
             let path = dir.join(format!("{}-error.png", row.file));
-            write_rgb8(&path, &with_scale_labels(&map, HEAT_SCALE), args.force)?;
+            let title = format!(
+                "{}: |error| vs reference, linear, largest channel (white: {:.4} = 8/255 or more)",
+                row.label, HEAT_SCALE
+            );
+            write_rgb8(
+                &path,
+                &with_title(&with_scale_labels(&map, HEAT_SCALE), &title),
+                args.force,
+            )?;
         }
         let mach = mach_of(row, &image)?;
-        let ms = time_frames(&scene, &mut fb, row, args.frames, &mut || frames.tick());
+        let as_phong = (row.mode() == Some(ShadingMode::FastPhong))
+            .then(|| share_as(&image, &phong_image, &covered))
+            .flatten();
+        let times = time_frames(&scene, &mut fb, row, (args.frames, MIN_TIMED), &mut || {
+            frames.tick()
+        });
+        let (lo, ms, hi) = spread(&times);
         measured.push(Measured {
             row,
             ms,
+            ms_range: (lo, hi),
+            frames: times.len(),
+            as_phong,
+            geometric: against_geometric(&image),
             stats,
             mach,
             pixels,
@@ -508,11 +666,18 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
 
     let threads = thread_count();
     say!(
-        "scene: {}, {width}x{height}, {threads} thread{}, median of {} frame{} per mode after one untimed",
+        "scene: {}, {width}x{height}, {threads} thread{}, each mode timed over {} frame{} or {} ms (whichever first, at least {}) after one untimed; errors over the {} pixels the reference covers, in linear values and {} codes",
         scene_name(args),
         if threads == 1 { "" } else { "s" },
         args.frames,
         if args.frames == 1 { "" } else { "s" },
+        MIN_TIMED.as_millis(),
+        MIN_FRAMES.min(args.frames),
+        covered.iter().filter(|c| **c).count(),
+        match encoding {
+            phosphor_raster::Encoding::Srgb => "displayed sRGB",
+            phosphor_raster::Encoding::Linear => "displayed linear",
+        }
     );
     if reference_frames < args.frames {
         say!(
@@ -528,6 +693,14 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         .map_or(0.0, |m| m.ms);
     print_table(&measured, gouraud_ms);
     print_claims(&measured);
+    if geometric_pixels > 0 {
+        print_geometric(&measured, geometric_pixels);
+    }
+    let table_csv = csv(&measured);
+    if let Some(path) = &args.csv {
+        crate::output::write_bytes(path, table_csv.as_bytes(), args.force)?;
+        say!("wrote {}", path.display());
+    }
     let [(_, value), (_, slope)] = &reference_mach;
     say!(
         "mach: mean jump across {} interior edges ({} pixel pairs) of the value (flat, codes) or the one-pixel slope (others, codes/px); mach/ref: against reference's {} (value) and {} (slope){}",
@@ -548,6 +721,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             .map(|m| PlotPoint {
                 label: m.row.label.to_owned(),
                 ms: m.ms,
+                ms_range: m.ms_range,
                 rmse: m.stats.rmse,
             })
             .collect();
@@ -557,8 +731,9 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             &error_vs_time(&title, &points),
             args.force,
         )?;
+        crate::output::write_bytes(&dir.join("accuracy.csv"), table_csv.as_bytes(), args.force)?;
         say!(
-            "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), MODE-mach.png (edge jumps, white at {:.0}/255 for values, {:.0}/255 per pixel for slopes), error-vs-time.png",
+            "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), MODE-mach.png (edge jumps, white at {:.0}/255 for values, {:.0}/255 per pixel for slopes), error-vs-time.png, accuracy.csv",
             dir.display(),
             HEAT_SCALE,
             MACH_VALUE_SCALE * 255.0,

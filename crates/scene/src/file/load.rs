@@ -402,9 +402,16 @@ fn lighting_error(f: &Fields<'_>, e: &phosphor_lighting::LightingError) -> Scene
 
 fn material(m: &Fields<'_>, dir: &Path, files: &dyn Files) -> Result<MaterialDef, SceneError> {
     let base = Material::default();
+    // `ka = "kd"`: the lecture notes' ambient term of a diffuse surface, `I = Ia Kd`.
+    let ka_from_kd = matches!(m.get("ka"), Some(toml::Value::String(s)) if s == "kd");
+    let kd = m.color("kd")?.unwrap_or(base.kd);
     let mut mat = Material {
-        ka: m.color("ka")?.unwrap_or(base.ka),
-        kd: m.color("kd")?.unwrap_or(base.kd),
+        ka: if ka_from_kd {
+            kd
+        } else {
+            m.color("ka")?.unwrap_or(base.ka)
+        },
+        kd,
         ks: m.color("ks")?.unwrap_or(base.ks),
         // `inf` is the lecture notes' perfect reflector.
         shininess: m.f32_or_inf("shininess")?.unwrap_or(base.shininess),
