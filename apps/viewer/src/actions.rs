@@ -149,6 +149,30 @@ impl Viewer {
                 }
                 false
             }
+            Action::PlayPause => {
+                self.clock.playing = !self.clock.playing;
+                self.clock.last_tick = None;
+                term::say(&format!(
+                    "{} at {:.2} s",
+                    if self.clock.playing {
+                        "playing"
+                    } else {
+                        "paused"
+                    },
+                    self.clock.seconds
+                ));
+                true
+            }
+            Action::Scrub(by) => {
+                self.clock.playing = false;
+                self.clock.seconds += by;
+                true
+            }
+            Action::Rewind => {
+                self.clock.seconds = 0.0;
+                self.clock.last_tick = None;
+                true
+            }
             Action::Quit => false,
         }
     }
