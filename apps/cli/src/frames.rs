@@ -90,7 +90,7 @@ pub fn frames_to_render(
 ) -> Result<Range<u32>, CliError> {
     match (turntable, range) {
         (None, Some(r)) => Err(CliError::Usage(format!(
-            "--frames {r}: picks frames of a turntable or an animation; add --turntable N or --fps F (e.g. --turntable 36 --frames {r})"
+            "--frames {r}: picks frames of a turntable; add --turntable N (e.g. --turntable 36 --frames {r}), or --fps F for an animation"
         ))),
         (None, None) => Ok(0..1),
         (Some(n), None) => Ok(0..n),
@@ -308,7 +308,7 @@ mod tests {
         let e = frames_to_render(None, Some(r("2"))).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "--frames 2: picks frames of a turntable or an animation; add --turntable N or --fps F (e.g. --turntable 36 --frames 2)"
+            "--frames 2: picks frames of a turntable; add --turntable N (e.g. --turntable 36 --frames 2), or --fps F for an animation"
         );
         assert_eq!(e.exit_code(), 2);
         assert_eq!(frames_to_render(Some(3), None).unwrap(), 0..3);
