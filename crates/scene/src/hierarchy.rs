@@ -128,8 +128,7 @@ pub fn propagate_transforms(world: &mut World) -> Vec<String> {
         let mut chain = vec![start];
         let mut looped = false;
         let mut base = Mat4::IDENTITY;
-        loop {
-            let Some(&e) = chain.last() else { break };
+        while let Some(&e) = chain.last() {
             if let Some(m) = done.get(&e) {
                 base = *m;
                 chain.pop();
