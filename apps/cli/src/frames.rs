@@ -90,7 +90,7 @@ pub fn frames_to_render(
 ) -> Result<Range<u32>, CliError> {
     match (turntable, range) {
         (None, Some(r)) => Err(CliError::Usage(format!(
-            "--frames {r}: picks frames of a turntable; add --turntable N (e.g. --turntable 36 --frames {r})"
+            "--frames {r}: picks frames of a turntable; add --turntable N (e.g. --turntable 36 --frames {r}), or --fps F for an animation"
         ))),
         (None, None) => Ok(0..1),
         (Some(n), None) => Ok(0..n),
@@ -104,6 +104,19 @@ pub fn frames_to_render(
             Ok(r.start..r.end)
         }
     }
+}
+
+/// The frames of an animation sequence (`--fps F --frames A..B`): exactly the range, which
+/// has no end of its own to check against.
+///
+/// # Errors
+/// `--fps` without `--frames` (usage).
+pub fn animation_frames(fps: f64, range: Option<FrameRange>) -> Result<Range<u32>, CliError> {
+    range.map(|r| r.start..r.end).ok_or_else(|| {
+        CliError::Usage(format!(
+            "--fps {fps}: say which frames with --frames A..B (e.g. --fps {fps} --frames 0..48)"
+        ))
+    })
 }
 
 /// An output name with at most one frame number in it (`%d` or `%0Nd`, printf-style; `%%` is
@@ -295,7 +308,7 @@ mod tests {
         let e = frames_to_render(None, Some(r("2"))).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "--frames 2: picks frames of a turntable; add --turntable N (e.g. --turntable 36 --frames 2)"
+            "--frames 2: picks frames of a turntable; add --turntable N (e.g. --turntable 36 --frames 2), or --fps F for an animation"
         );
         assert_eq!(e.exit_code(), 2);
         assert_eq!(frames_to_render(Some(3), None).unwrap(), 0..3);

@@ -424,6 +424,108 @@ fn a_turntable_rendered_in_two_halves_equals_one_run_byte_for_byte() {
 }
 
 #[test]
+fn an_animation_rendered_in_parts_equals_one_run_and_time_picks_the_instant() {
+    let d = temp("animation");
+    let whole = d.join("whole");
+    let split = d.join("split");
+    let pattern = |dir: &Path| dir.join("anim_%03d.png").to_str().unwrap().to_owned();
+    let base = [
+        "render",
+        "assets/scenes/animated.toml",
+        "--size",
+        "48x32",
+        "--fps",
+        "4",
+    ];
+    ok(&cat(&base, &["--frames", "0..6", "-o", &pattern(&whole)]));
+    ok(&cat(&base, &["--frames", "0..2", "-o", &pattern(&split)]));
+    ok(&cat(&base, &["--frames", "2..=5", "-o", &pattern(&split)]));
+    let mut names: Vec<String> = std::fs::read_dir(&whole)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let expected: Vec<String> = (0..6).map(|k| format!("anim_{k:03}.png")).collect();
+    assert_eq!(names, expected);
+    for name in &names {
+        assert_eq!(read(&whole.join(name)), read(&split.join(name)), "{name}");
+    }
+    // The scene moves: consecutive frames differ.
+    for k in 0..5 {
+        assert_ne!(
+            read(&whole.join(&names[k])),
+            read(&whole.join(&names[k + 1])),
+            "frames {k} and {}",
+            k + 1
+        );
+    }
+    // --time picks the instant: frame 3 at 4 fps is t = 0.75 s, and --time shifts frame 0.
+    let still = d.join("still.png");
+    let s = still.to_str().unwrap();
+    ok(&[&base[..4], &["--time", "0.75", "-o", s]].concat());
+    assert_eq!(read(&still), read(&whole.join("anim_003.png")));
+    let shifted = d.join("shifted_%d.png");
+    ok(&cat(
+        &base,
+        &[
+            "--time",
+            "0.5",
+            "--frames",
+            "1",
+            "-o",
+            shifted.to_str().unwrap(),
+        ],
+    ));
+    assert_eq!(read(&d.join("shifted_1.png")), read(&still));
+    // The plan is made per frame: --plan prints one per frame.
+    let o = ok(&cat(&base, &["--frames", "0..3", "--plan"]));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(text.matches("frame plan:").count(), 3, "{text}");
+    assert_usage(
+        &cat(&base, &["-o", &pattern(&whole)]),
+        "--fps 4",
+        "--frames",
+    );
+    assert_eq!(
+        phosphor(&cat(
+            &base,
+            &[
+                "--turntable",
+                "4",
+                "--frames",
+                "0..2",
+                "-o",
+                &pattern(&whole)
+            ]
+        ))
+        .status
+        .code(),
+        Some(2)
+    );
+    for bad in ["0", "-1", "nan", "inf"] {
+        assert_eq!(
+            phosphor(
+                &[
+                    &base[..4],
+                    &["--fps", bad, "--frames", "0..2", "-o", &pattern(&d)]
+                ]
+                .concat()
+            )
+            .status
+            .code(),
+            Some(2),
+            "--fps {bad}"
+        );
+    }
+    assert_eq!(
+        phosphor(&[&base[..4], &["--time", "nan", "-o", s]].concat())
+            .status
+            .code(),
+        Some(2)
+    );
+}
+
+#[test]
 fn sequence_usage_errors() {
     let d = temp("sequence-errors");
     let numbered = d.join("f_%04d.png");

@@ -42,6 +42,8 @@ const KEY_HELP_TAIL: &str = "\
   V                    next standard view: front, right, back, left, top, bottom, iso
   R                    reset the view
   C                    print the camera as a scene file's [camera] block (paste it into a scene)
+  Space                play / pause the scene's clock (spins, orbits, bobs, keyframes)
+  [ ]                  step the clock back / on by 0.1 s (shift: 1 s); Backspace: back to 0
   S                    save a screenshot (PNG) beside the scene file (current folder for --mesh)
   H                    print this list
   Esc, Q               quit";
@@ -115,6 +117,12 @@ pub enum Action {
     PrintCamera,
     /// Save the last frame as a PNG beside the scene file.
     Screenshot,
+    /// Play or pause the scene's clock.
+    PlayPause,
+    /// Move the scene's clock by this many seconds (pauses it).
+    Scrub(f64),
+    /// Set the scene's clock back to 0.
+    Rewind,
     /// Print the key list.
     Help,
     /// Close the viewer.
@@ -170,6 +178,10 @@ pub fn key_action(code: KeyCode, shift: bool) -> Option<Action> {
         KeyCode::KeyC => Some(Action::PrintCamera),
         KeyCode::KeyS => Some(Action::Screenshot),
         KeyCode::KeyH => Some(Action::Help),
+        KeyCode::Space => Some(Action::PlayPause),
+        KeyCode::BracketLeft => Some(Action::Scrub(if shift { -1.0 } else { -0.1 })),
+        KeyCode::BracketRight => Some(Action::Scrub(if shift { 1.0 } else { 0.1 })),
+        KeyCode::Backspace => Some(Action::Rewind),
         KeyCode::Escape | KeyCode::KeyQ => Some(Action::Quit),
         _ => None,
     }

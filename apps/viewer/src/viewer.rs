@@ -7,10 +7,12 @@ use std::time::Instant;
 
 use phosphor_math::glam::Vec3;
 use phosphor_output::image::{Transfer, write_png};
+use phosphor_output::term;
 use phosphor_raster::encode::Encoder;
 use phosphor_raster::{
     Antialias, Camera, Encoding, FastPhongMethod, Framebuffer, Interpolation, Projection,
 };
+use phosphor_scene::animation::{Time, is_animated, update};
 use phosphor_scene::preset::ViewPreset;
 use phosphor_scene::view::camera_toml;
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
@@ -89,6 +91,35 @@ pub struct Viewer {
     pub triangles: u64,
     pub frames: u32,
     pub total_ms: f64,
+    /// The scene's clock: the instant shown, and whether it runs.
+    pub clock: Clock,
+    /// Warnings already printed (each once, not once per frame).
+    pub told: Vec<String>,
+}
+
+/// The viewer's clock (Space plays and pauses, `[` and `]` scrub): the scene is posed at
+/// `seconds` before each frame (`phosphor_scene::animation::update`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Clock {
+    /// The instant shown, seconds.
+    pub seconds: f64,
+    /// Whether it advances with the wall clock.
+    pub playing: bool,
+    /// When the last playing frame was drawn (`None`: the next one starts the count).
+    pub last_tick: Option<Instant>,
+}
+
+impl Clock {
+    /// Advances a playing clock by the wall time since its last tick; returns the instant.
+    pub fn tick(&mut self, now: Instant) -> f64 {
+        if self.playing {
+            if let Some(last) = self.last_tick {
+                self.seconds += now.duration_since(last).as_secs_f64();
+            }
+            self.last_tick = Some(now);
+        }
+        self.seconds
+    }
 }
 
 impl Viewer {
@@ -125,7 +156,14 @@ impl Viewer {
             triangles: 0,
             frames: 0,
             total_ms: 0.0,
+            clock: Clock::default(),
+            told: Vec::new(),
         }
+    }
+
+    /// Whether the scene has anything that moves with its clock.
+    pub fn animated(&self) -> bool {
+        is_animated(&self.scene.world)
     }
 
     /// The anti-aliasing of the next frame: the still picture's when it is refined, in
@@ -179,6 +217,16 @@ impl View for Viewer {
             _ => Framebuffer::new(width, height).map_err(|e| e.to_string())?,
         };
         let mut fb = fb;
+        let seconds = self.clock.tick(start);
+        if self.animated() {
+            for w in update(&mut self.scene, Time::at(seconds)) {
+                if !self.told.contains(&w) {
+                    term::warn(&w);
+                    self.told.push(w);
+                }
+            }
+        }
+        // The viewer's own camera (orbit, pan, zoom) wins over a camera on a rig.
         let camera = self.camera();
         self.scene.set_camera(camera);
         let opts = FrameOptions {
@@ -193,6 +241,12 @@ impl View for Viewer {
             ..FrameOptions::default()
         };
         let report = render_frame(&self.scene, &mut fb, &opts);
+        for w in &report.warnings {
+            if !self.told.contains(w) {
+                term::warn(w);
+                self.told.push(w.clone());
+            }
+        }
         fb.write_0rgb_threads(out, 0);
         self.fb = Some(fb);
         let ms = start.elapsed().as_secs_f64() * 1e3;
@@ -220,7 +274,20 @@ impl View for Viewer {
             .shading
             .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
         format!(
-            "Phosphor | {mode}{}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            "Phosphor | {}{mode}{}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            if self.animated() {
+                format!(
+                    "t {:.2} s {} | ",
+                    self.clock.seconds,
+                    if self.clock.playing {
+                        "playing"
+                    } else {
+                        "paused (Space plays)"
+                    }
+                )
+            } else {
+                String::new()
+            },
             if self.last_antialias == Antialias::Off {
                 String::new()
             } else {
@@ -257,6 +324,10 @@ impl View for Viewer {
 
     fn apply(&mut self, action: Action, height: u32) -> bool {
         self.act(action, height)
+    }
+
+    fn playing(&self) -> bool {
+        self.clock.playing && self.animated()
     }
 
     fn wants_refinement(&self) -> bool {

@@ -40,6 +40,9 @@ pub trait View {
     fn wants_refinement(&self) -> bool;
     /// Makes the next frame the refined still picture.
     fn refine(&mut self);
+    /// Whether the picture moves on its own (an animation playing): the loop then draws
+    /// frame after frame instead of waiting for input.
+    fn playing(&self) -> bool;
 }
 
 /// Time without input after which a view that wants refinement draws its still picture.
@@ -165,6 +168,9 @@ impl<V: View> App<V> {
             } else {
                 ControlFlow::Wait
             });
+            if self.view.playing() {
+                gfx.window.request_redraw();
+            }
         }
         self.after_frame(event_loop);
     }

@@ -225,6 +225,62 @@ impl Framebuffer {
         }
         out
     }
+
+    /// Interleaved 8-bit RGBA (alpha 255), row-major from the top, through the encoding
+    /// table: the layout of most GPU textures, image crates and HTML canvases, for callers
+    /// that put the picture somewhere other than a PNG file or a softbuffer window.
+    #[must_use]
+    pub fn to_rgba8(&self, encoding: Encoding) -> Vec<u8> {
+        let mut out = vec![0; self.color.len() * 4];
+        for y in 0..self.height {
+            let w = self.width as usize * 4;
+            let row = &mut out[y as usize * w..(y as usize + 1) * w];
+            self.write_row(y, encoding, PixelLayout::Rgba8, row);
+        }
+        out
+    }
+
+    /// Writes row `y` (0 at the top) into `out` as 8-bit pixels in `layout`, through the
+    /// encoding table: as many whole pixels as both hold (`width * layout.bytes()` bytes is
+    /// the full row). A row past the bottom writes nothing. The same bytes as the matching
+    /// row of [`Framebuffer::to_rgb8`] / [`Framebuffer::to_rgba8`], without holding a copy of
+    /// the whole image (a streaming encoder, a texture upload row by row).
+    pub fn write_row(&self, y: u32, encoding: Encoding, layout: PixelLayout, out: &mut [u8]) {
+        if y >= self.height {
+            return;
+        }
+        let enc = Encoder::new(encoding);
+        let w = self.width as usize;
+        let src = &self.color[y as usize * w..(y as usize + 1) * w];
+        for (d, c) in out.chunks_exact_mut(layout.bytes()).zip(src) {
+            d[0] = enc.encode(c.x);
+            d[1] = enc.encode(c.y);
+            d[2] = enc.encode(c.z);
+            if let Some(a) = d.get_mut(3) {
+                *a = u8::MAX;
+            }
+        }
+    }
+}
+
+/// The byte layout of one 8-bit pixel ([`Framebuffer::write_row`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PixelLayout {
+    /// Red, green, blue: 3 bytes.
+    Rgb8,
+    /// Red, green, blue, alpha (always 255: the framebuffer is opaque): 4 bytes.
+    Rgba8,
+}
+
+impl PixelLayout {
+    /// Bytes per pixel.
+    #[must_use]
+    pub fn bytes(self) -> usize {
+        match self {
+            PixelLayout::Rgb8 => 3,
+            PixelLayout::Rgba8 => 4,
+        }
+    }
 }
 
 /// Whether `clean` holds exactly the colour `bg` (bit for bit: a clear to a different colour,
@@ -351,6 +407,34 @@ mod tests {
         fb.write_0rgb(&mut out);
         assert_eq!(out[0] >> 8, 0xff00);
         assert_eq!(fb.to_rgb8(Encoding::Linear)[..3], [255, 0, 128]);
+    }
+
+    #[test]
+    fn rgba8_and_rows_hold_the_rgb8_bytes_with_opaque_alpha() {
+        let mut fb = Framebuffer::new(3, 2).unwrap();
+        fb.clean = None;
+        for (i, c) in fb.color.iter_mut().enumerate() {
+            *c = Vec3::new(i as f32 / 5.0, 1.0 - i as f32 / 5.0, 0.5);
+        }
+        for encoding in [Encoding::Srgb, Encoding::Linear] {
+            let rgb = fb.to_rgb8(encoding);
+            let rgba = fb.to_rgba8(encoding);
+            assert_eq!(rgba.len(), 3 * 2 * 4);
+            for (p, q) in rgb.chunks_exact(3).zip(rgba.chunks_exact(4)) {
+                assert_eq!(p, &q[..3]);
+                assert_eq!(q[3], 255);
+            }
+            let mut row = [7u8; 9];
+            fb.write_row(1, encoding, PixelLayout::Rgb8, &mut row);
+            assert_eq!(row[..], rgb[9..18]);
+            let mut short = [7u8; 5];
+            fb.write_row(0, encoding, PixelLayout::Rgb8, &mut short);
+            assert_eq!(short[..3], rgb[..3], "one whole pixel fits");
+            assert_eq!(short[3..], [7, 7], "a partial pixel is left alone");
+            fb.write_row(2, encoding, PixelLayout::Rgb8, &mut row);
+            assert_eq!(row[..], rgb[9..18], "a row past the bottom writes nothing");
+        }
+        assert_ne!(fb.to_rgb8(Encoding::Srgb), fb.to_rgb8(Encoding::Linear));
     }
 
     #[test]

@@ -7,34 +7,41 @@
 //! Systems are free functions over the scene ([`plan::plan_frame`], [`render::render_frame`]);
 //! there is no global state.
 //!
-//! ```
-//! use phosphor_raster::Framebuffer;
-//! use phosphor_scene::{FrameOptions, Scene, render_frame};
+//! A scene is built in code with typed builders ([`builder`]): meshes and materials are made
+//! once and shared by handle, and each object or light is spawned complete, with defaults.
 //!
-//! let scene = Scene::parse(
-//!     r#"
-//!     [ambient]
-//!     intensity = [1, 1, 1]
-//!     [[lights]]
-//!     type = "directional"
-//!     direction = [0, 0, -1]
-//!     intensity = [1.0, 0.9, 0.8]
-//!     [materials.matte]
-//!     ka = 0.1
-//!     kd = [0.8, 0.6, 0.4]
-//!     [[objects]]
-//!     name = "ball"
-//!     primitive = { shape = "sphere", radius = 1.0, segments = 32, rings = 16 }
-//!     material = "matte"
-//!     "#,
-//!     "ball.toml",
+//! ```
+//! use glam::Vec3;
+//! use phosphor_lighting::{Light, Material};
+//! use phosphor_raster::Framebuffer;
+//! use phosphor_scene::{FrameOptions, Primitive, Scene, render_frame, scene_to_toml};
+//!
+//! let mut scene = Scene::empty();
+//! scene.ambient = Vec3::splat(0.1);
+//! let ball = scene.primitive(Primitive::Sphere { radius: 1.0, segments: 32, rings: 16 })?;
+//! let matte = scene.add_material(
+//!     "matte",
+//!     Material { kd: Vec3::new(0.8, 0.6, 0.4), ..Material::default() },
 //! )?;
+//! scene.object("ball", &ball, &matte).spawn();
+//! scene
+//!     .light("sun", Light::directional(Vec3::new(0.0, 0.0, -1.0), Vec3::new(1.0, 0.9, 0.8))?)
+//!     .spawn();
+//!
 //! let mut fb = Framebuffer::new(64, 48)?;
 //! let report = render_frame(&scene, &mut fb, &FrameOptions::default());
 //! assert_eq!(report.plan.objects.len(), 1);
+//! assert!(report.warnings.is_empty());
 //! // A matte sphere under a distant light: `auto` needs no specular term.
 //! assert!(!report.plan.objects[0].effects.contains(phosphor_lighting::Effects::SPECULAR));
 //! assert!(fb.pixel(32, 24).x > 0.5);
+//!
+//! // Saved, it is a scene file that loads back to the same objects.
+//! let text = scene_to_toml(&scene);
+//! assert!(text.contains("[materials.matte]"), "{text}");
+//! assert!(text.contains("kd = [0.8, 0.6, 0.4]"), "{text}");
+//! let again = Scene::parse(&text, "saved.toml")?;
+//! assert_eq!(again.objects().len(), 1);
 //!
 //! // Errors name the file and the field.
 //! let err = Scene::parse("[camera]\nnear = -1\n", "bad.toml").unwrap_err();
@@ -53,12 +60,15 @@ use hecs::{Entity, World};
 use phosphor_lighting::Light;
 use phosphor_raster::{Antialias, Camera, Encoding, FastPhongMethod, Interpolation};
 
+pub mod animation;
 pub mod budget;
+pub mod builder;
 pub mod builtin;
 pub mod components;
 pub mod error;
 pub mod error_bound;
 pub mod file;
+pub mod hierarchy;
 pub mod plan;
 pub mod preset;
 pub mod render;
@@ -66,6 +76,7 @@ pub mod textures;
 pub mod view;
 
 pub use budget::{MAX_DISTRIBUTED_SAMPLES, SampleCut, limit_distributed_samples, point_samples};
+pub use builder::{LightBuilder, MaterialHandle, MeshHandle, ObjectBuilder};
 pub use components::{
     Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, Primitive,
     SceneMesh, Shading, ShadingChoice, Transform,
@@ -78,7 +89,7 @@ pub use plan::{
     AUTO_TOLERANCE, AutoInput, FrameOptions, FramePlan, PlannedObject, linear_tolerance,
     pixels_per_triangle, plan_frame,
 };
-pub use render::{FrameReport, draw_items, raster_options, render_frame};
+pub use render::{FrameReport, draw_items, raster_options, render_frame, unrenderable};
 pub use textures::ColorMap;
 
 /// Largest accepted image side, in pixels.
@@ -161,6 +172,8 @@ pub struct Scene {
     pub source: Option<PathBuf>,
     /// Warnings from loading (missing MTL, ignored bump maps), each a `warning: ...` line.
     pub warnings: Vec<String>,
+    /// The clock the world was last posed at ([`animation::update`]).
+    pub time: animation::Time,
 }
 
 impl std::fmt::Debug for Scene {
@@ -185,6 +198,7 @@ impl Scene {
             materials: BTreeMap::new(),
             source: None,
             warnings: Vec::new(),
+            time: animation::Time::default(),
         }
     }
 
@@ -242,7 +256,11 @@ impl Scene {
         self.light_entities()
             .into_iter()
             .filter_map(|e| {
-                let name = self.world.get::<&Name>(e).ok()?.0.clone();
+                // A light spawned without a name still shines; it is listed by its entity.
+                let name = self
+                    .world
+                    .get::<&Name>(e)
+                    .map_or_else(|_| format!("entity {}", e.id()), |n| n.0.clone());
                 let light = *self.world.get::<&Light>(e).ok()?;
                 Some((name, light))
             })

@@ -5,7 +5,10 @@ use std::time::{Duration, Instant};
 
 use phosphor_raster::{DrawItem, Framebuffer, MeshView, RenderOptions, RenderStats};
 
+use phosphor_lighting::Material;
+
 use crate::Scene;
+use crate::components::{MeshRef, Name, Transform};
 use crate::plan::{FrameOptions, FramePlan, plan_frame};
 
 /// What one frame did.
@@ -19,6 +22,51 @@ pub struct FrameReport {
     pub plan_time: Duration,
     /// Time spent rasterizing and shading.
     pub raster_time: Duration,
+    /// Entities with a mesh that were not drawn for want of a component
+    /// ([`unrenderable`]), one `warning: ...` line each.
+    pub warnings: Vec<String>,
+}
+
+/// The entities that have a mesh ([`MeshRef`]) but lack a component the frame plan needs to
+/// draw them ([`Name`], [`Transform`], a [`Material`]): one `warning: ...` line each, naming
+/// the entity and what it lacks. The plan draws only complete objects; this says which were
+/// left out and why, instead of dropping them silently. [`Scene::object`] spawns complete
+/// ones.
+#[must_use]
+pub fn unrenderable(world: &hecs::World) -> Vec<String> {
+    let mut out: Vec<(u32, String)> = world
+        .query::<(
+            hecs::Entity,
+            &MeshRef,
+            Option<&Name>,
+            Option<&Transform>,
+            Option<&Material>,
+        )>()
+        .iter()
+        .filter_map(|(e, _, n, t, m)| {
+            let missing: Vec<&str> = [
+                ("Name", n.is_none()),
+                ("Transform", t.is_none()),
+                ("Material", m.is_none()),
+            ]
+            .iter()
+            .filter(|(_, gone)| *gone)
+            .map(|(c, _)| *c)
+            .collect();
+            (!missing.is_empty()).then(|| {
+                let who = n.map_or_else(|| format!("entity {}", e.id()), |n| format!("object \"{}\"", n.0));
+                (
+                    e.id(),
+                    format!(
+                        "warning: {who} has a mesh but no {}; it is not drawn (Scene::object spawns every component)",
+                        missing.join(", ")
+                    ),
+                )
+            })
+        })
+        .collect();
+    out.sort();
+    out.into_iter().map(|(_, w)| w).collect()
 }
 
 /// The raster draw list of a plan (borrows the plan).
@@ -89,5 +137,6 @@ pub fn render_frame(scene: &Scene, fb: &mut Framebuffer, opts: &FrameOptions) ->
         stats,
         plan_time,
         raster_time: start.elapsed(),
+        warnings: unrenderable(&scene.world),
     }
 }

@@ -28,7 +28,7 @@ mod tests {
             "shading" if subcommand == "bench" => MEASURING_HEADING,
             "shading" => RENDERING_HEADING,
             "output" | "encoding" | "force" | "plan" | "out_dir" | "csv" => OUTPUT_HEADING,
-            "turntable" => SEQUENCE_HEADING,
+            "turntable" | "time" | "fps" => SEQUENCE_HEADING,
             "frames" if subcommand == "render" => SEQUENCE_HEADING,
             "frames" => MEASURING_HEADING,
             _ => return None,

@@ -154,8 +154,28 @@ pub struct RenderArgs {
         value_parser = clap::value_parser!(u32).range(1..)
     )]
     pub turntable: Option<u32>,
-    /// With --turntable, only these frames: A..B (half-open, B not included), A..=B
-    /// (inclusive) or K (one frame). Frame numbers and file names are those of the whole turntable.
+    /// The instant rendered, in seconds on the scene's clock (spins, orbits, bobs and
+    /// keyframed tracks); with --fps, the time of frame 0. Default 0.
+    #[arg(
+        long,
+        help_heading = SEQUENCE_HEADING,
+        value_name = "T",
+        value_parser = parse_seconds
+    )]
+    pub time: Option<f64>,
+    /// Render the scene's animation as a sequence at F frames per second: frame k at time
+    /// T + k/F (T from --time). Takes --frames A..B; named and split as --turntable is.
+    #[arg(
+        long,
+        help_heading = SEQUENCE_HEADING,
+        value_name = "F",
+        value_parser = parse_fps,
+        conflicts_with = "turntable"
+    )]
+    pub fps: Option<f64>,
+    /// With --turntable or --fps, only these frames: A..B (half-open, B not included), A..=B
+    /// (inclusive) or K (one frame). Frame numbers and file names are those of the whole
+    /// sequence.
     #[arg(
         long,
         help_heading = SEQUENCE_HEADING,

@@ -244,3 +244,29 @@ pub enum ShellArg {
     /// PowerShell.
     Powershell,
 }
+
+/// `--time`: a finite number of seconds.
+///
+/// # Errors
+/// A message naming what was expected.
+pub fn parse_seconds(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(t) if t.is_finite() && t.abs() <= 1e9 => Ok(t),
+        _ => Err(format!(
+            "expected seconds, a finite number such as 1.5, got `{text}`"
+        )),
+    }
+}
+
+/// `--fps`: frames per second, a finite number > 0.
+///
+/// # Errors
+/// A message naming what was expected.
+pub fn parse_fps(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(f) if f.is_finite() && f > 0.0 && f <= 1e6 => Ok(f),
+        _ => Err(format!(
+            "expected frames per second, a number > 0 such as 24, got `{text}`"
+        )),
+    }
+}

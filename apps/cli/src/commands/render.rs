@@ -5,6 +5,7 @@ use std::io::IsTerminal;
 use std::time::{Duration, Instant};
 
 use phosphor_raster::{Antialias, Encoding};
+use phosphor_scene::animation::{Time, is_animated, update};
 use phosphor_scene::view::turntable_camera;
 use phosphor_scene::{FrameOptions, render_frame};
 
@@ -12,7 +13,7 @@ use super::{framebuffer, size_field};
 use crate::CliError;
 use crate::args::{EncodingArg, RenderArgs};
 use crate::folders::{make_missing, missing_folders, remove_empty};
-use crate::frames::{Output, frames_to_render, output_for};
+use crate::frames::{Output, animation_frames, frames_to_render, output_for};
 use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_pixel, threads};
 use crate::output::{check_output, format_of, is_stdout, write_image, write_png_to_stdout};
 use crate::progress::{Progress, QUIET_FOR, set_fraction};
@@ -28,7 +29,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let started = Instant::now();
     // The frames and the output are checked before any work, so that a usage error, a refusal
     // or a bad extension is immediate.
-    let frames = frames_to_render(args.turntable, args.frames)?;
+    let frames = match args.fps {
+        Some(fps) => animation_frames(fps, args.frames)?,
+        None => frames_to_render(args.turntable, args.frames)?,
+    };
     let stdout_is_terminal = std::io::stdout().is_terminal();
     let output = output_for(
         args.output.as_deref(),
@@ -100,14 +104,32 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let mut fb = framebuffer(width, height)?;
     let alloc_time = alloc_start.elapsed();
     let home = scene.camera();
+    let start_time = args.time.unwrap_or(0.0);
+    // The world is posed for each frame's instant before its plan is made: the plan (modes,
+    // lights kept, culling) is per frame, as objects move.
+    let posed = is_animated(&scene.world) || args.time.is_some() || args.fps.is_some();
+    let mut told: Vec<String> = Vec::new();
     for (index, frame) in frames.enumerate() {
         let frame_start = Instant::now();
-        let what = match args.turntable {
-            Some(n) => {
+        let time = match args.fps {
+            Some(fps) => Time::of_frame(start_time, frame, fps),
+            None => Time::at(start_time),
+        };
+        if posed {
+            for w in update(&mut scene, time) {
+                if !told.contains(&w) {
+                    phosphor_output::term::warn(w.trim_start_matches("warning: "));
+                    told.push(w);
+                }
+            }
+        }
+        let what = match (args.turntable, args.fps) {
+            (Some(n), _) => {
                 scene.set_camera(turntable_camera(&home, frame, n));
                 format!("frame {frame} of {n}, ")
             }
-            None => String::new(),
+            (None, Some(_)) => format!("frame {frame} at {:.3} s, ", time.seconds),
+            (None, None) => String::new(),
         };
         // Each stage is a third of the frame's bar: loading (or nothing), rendering, saving.
         stage.reset();
@@ -214,6 +236,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 phosphor_output::term::tell(&line);
             } else {
                 progress.suspend(|| say!("{line}"));
+            }
+        }
+        for w in &report.warnings {
+            if !told.contains(w) {
+                phosphor_output::term::warn(w.trim_start_matches("warning: "));
+                told.push(w.clone());
             }
         }
         if s.bump_ignored > 0 && index == 0 {

@@ -18,7 +18,8 @@ use super::read::{Fields, choose};
 use crate::error::SceneError;
 
 /// The `[camera]` table.
-pub(crate) fn camera(c: &Fields<'_>) -> Result<Camera, SceneError> {
+pub(crate) fn camera(c: &Fields<'_>) -> Result<(Camera, super::motion::Motion), SceneError> {
+    let motion = super::motion::motion(c)?;
     let s1 = Camera::s1();
     let mut cam = Camera {
         eye: c.vec3("eye")?.unwrap_or(s1.eye),
@@ -48,6 +49,11 @@ pub(crate) fn camera(c: &Fields<'_>) -> Result<Camera, SceneError> {
         "far",
         "projection",
         "ortho_height",
+        "parent",
+        "spin",
+        "orbit",
+        "bob",
+        "animation",
     ])?;
     if !(cam.fov_y_deg > 0.0 && cam.fov_y_deg < 180.0) {
         return Err(c.error(
@@ -90,5 +96,5 @@ pub(crate) fn camera(c: &Fields<'_>) -> Result<Camera, SceneError> {
         }
         (false, None) => {}
     }
-    Ok(cam)
+    Ok((cam, motion))
 }

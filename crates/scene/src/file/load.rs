@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use glam::Vec3;
+use hecs::Entity;
 use phosphor_lighting::{
     Attenuation, Fresnel, FresnelMode, Light, LightKind, Material, SpecularModel,
 };
@@ -12,6 +13,7 @@ use phosphor_mesh::primitives::{PrimitiveError, gigabytes};
 use phosphor_mesh::{MAX_MESH_FILE_BYTES, MeshFormat, NormalOptions, NormalSource, Weighting};
 use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump, Texture, Wrap};
 
+use super::motion::{MOTION_KEYS, Motion};
 use super::read::{Fields, choose};
 use crate::budget::{MAX_DISTRIBUTED_SAMPLES, limit_distributed_samples};
 use crate::components::{
@@ -19,6 +21,7 @@ use crate::components::{
     PRIMITIVE_BUDGET_BYTES, Primitive, SceneMesh, Shading, ShadingChoice, Transform,
 };
 use crate::error::SceneError;
+use crate::hierarchy::{LocalCamera, LocalLight};
 use crate::textures::{ColorMap, MapSource, checkerboard, decode, wrap_of};
 use crate::{CullChoice, RenderSettings, Scene};
 
@@ -92,21 +95,36 @@ pub fn parse_scene(
     if let Some(r) = root.table("render")? {
         scene.settings = render_settings(&r)?;
     }
-    let camera = match root.table("camera")? {
+    let (camera, camera_motion) = match root.table("camera")? {
         Some(c) => super::camera::camera(&c)?,
-        None => Camera::s1(),
+        None => (Camera::s1(), Motion::default()),
     };
-    scene.world.spawn((camera,));
+    let camera_entity = scene.world.spawn((camera,));
+    // Children name their parents; each is resolved once every object exists.
+    let mut pending: Vec<(Entity, String, String)> = Vec::new();
+    if camera_motion.posed() {
+        scene
+            .world
+            .insert_one(camera_entity, LocalCamera(camera))
+            .ok();
+    }
+    if let Some(p) = &camera_motion.parent {
+        pending.push((camera_entity, p.clone(), camera_motion.parent_field.clone()));
+    }
+    camera_motion.attach(&mut scene, camera_entity, Transform::default());
     if let Some(a) = root.table("ambient")? {
         scene.ambient = a.color("intensity")?.unwrap_or(Vec3::ZERO);
         a.finish(&["intensity"])?;
     }
     let mut lights = Vec::new();
+    let mut motions = Vec::new();
     for (i, l) in root.tables("lights")?.into_iter().enumerate() {
         let name = l
             .str("name")?
             .map_or_else(|| format!("light {i}"), str::to_owned);
-        lights.push((name, light(&l)?));
+        let (light, motion) = light(&l)?;
+        lights.push((name, light));
+        motions.push(motion);
     }
     let mut kinds: Vec<Light> = lights.iter().map(|(_, l)| *l).collect();
     let (cuts, asked) = limit_distributed_samples(&mut kinds, MAX_DISTRIBUTED_SAMPLES);
@@ -116,8 +134,15 @@ pub fn parse_scene(
             cut.index, cut.before, cut.after
         ));
     }
-    for ((name, _), light) in lights.into_iter().zip(kinds) {
-        scene.world.spawn((Name(name), light));
+    for (((name, _), light), motion) in lights.into_iter().zip(kinds).zip(motions) {
+        let e = scene.world.spawn((Name(name), light));
+        if motion.posed() {
+            scene.world.insert_one(e, LocalLight(light.kind)).ok();
+        }
+        if let Some(p) = &motion.parent {
+            pending.push((e, p.clone(), motion.parent_field.clone()));
+        }
+        motion.attach(&mut scene, e, Transform::default());
     }
     for (name, m) in root.named_tables("materials")? {
         let def = material(&m, dir, files)?;
@@ -129,8 +154,9 @@ pub fn parse_scene(
     let mut primitive_bytes = 0u64;
     let objects = root.tables("objects")?;
     check_primitive_budget(&objects)?;
+    let mut named: Vec<(String, Entity)> = Vec::new();
     for (i, o) in objects.into_iter().enumerate() {
-        object(
+        let (entity, motion) = object(
             &mut scene,
             &o,
             i,
@@ -141,8 +167,26 @@ pub fn parse_scene(
             &mut maps,
             &mut primitive_bytes,
         )?;
+        if let Ok(n) = scene.world.get::<&Name>(entity) {
+            named.push((n.0.clone(), entity));
+        }
+        if let Some(p) = &motion.parent {
+            pending.push((entity, p.clone(), motion.parent_field.clone()));
+        }
+        let rest = scene
+            .world
+            .get::<&Transform>(entity)
+            .map(|t| *t)
+            .unwrap_or_default();
+        motion.attach(&mut scene, entity, rest);
     }
     root.finish(TOP)?;
+    super::motion::resolve_parents(&mut scene, file, pending, &named)?;
+    // Posed at time 0, so that a loaded scene renders as it stands.
+    let placed = crate::animation::update(&mut scene, crate::animation::Time::default());
+    scene
+        .warnings
+        .extend(placed.into_iter().map(|w| format!("{w} ({file})")));
     if scene.light_count() == 0 && scene.world.query::<&MeshRef>().iter().next().is_some() {
         scene.warnings.push(format!(
             "warning: {file}: lights: none, so only the ambient term lights the objects{}",
@@ -304,7 +348,8 @@ fn attenuation(a: &Fields<'_>) -> Result<Attenuation, SceneError> {
     Ok(att)
 }
 
-fn light(l: &Fields<'_>) -> Result<Light, SceneError> {
+fn light(l: &Fields<'_>) -> Result<(Light, Motion), SceneError> {
+    let motion = super::motion::motion(l)?;
     let kind_name = l.str("type")?.ok_or_else(|| {
         l.error(
             "type",
@@ -387,8 +432,9 @@ fn light(l: &Fields<'_>) -> Result<Light, SceneError> {
         "enabled",
     ];
     known.extend_from_slice(keys);
+    known.extend_from_slice(MOTION_KEYS);
     l.finish(&known)?;
-    Ok(light)
+    Ok((light, motion))
 }
 
 /// A lighting error (`field: what`) placed under the table being read.
@@ -721,7 +767,7 @@ fn object(
     bumps: &mut BTreeMap<String, Arc<BumpMap>>,
     maps: &mut BTreeMap<String, Option<Arc<Texture>>>,
     primitive_bytes: &mut u64,
-) -> Result<(), SceneError> {
+) -> Result<(Entity, Motion), SceneError> {
     let name = o
         .str("name")?
         .map_or_else(|| format!("object {index}"), str::to_owned);
@@ -787,6 +833,7 @@ fn object(
         None => None,
     };
     let transform = transform(o.table("transform")?)?;
+    let motion = super::motion::motion(o)?;
     o.finish(&[
         "name",
         "mesh",
@@ -796,6 +843,11 @@ fn object(
         "shading",
         "normals",
         "transform",
+        "parent",
+        "spin",
+        "orbit",
+        "bob",
+        "animation",
     ])?;
     let entity = scene.world.spawn((
         Name(name),
@@ -857,7 +909,7 @@ fn object(
     if let Some(map) = color_map(scene, o, material_name, &def, &mesh, files, maps) {
         scene.world.insert_one(entity, ColorMap(map)).ok();
     }
-    Ok(())
+    Ok((entity, motion))
 }
 
 /// Reads a map's encoded bytes when it is first needed.

@@ -1,7 +1,8 @@
 //! Scene files: TOML in ([`load`]), TOML out ([`save`]), through a field-aware reader.
 
-mod bump_image;
+pub(crate) mod bump_image;
 mod camera;
 pub mod load;
+mod motion;
 mod read;
 pub mod save;

@@ -194,6 +194,82 @@ impl<'a> Fields<'a> {
         Ok(Some(Vec3::from_array(out)))
     }
 
+    /// A list of finite numbers (`[0, 0.5, 1]`).
+    pub(crate) fn f32s(&self, key: &'a str) -> Result<Option<Vec<f32>>, SceneError> {
+        let Some(v) = self.get(key) else {
+            return Ok(None);
+        };
+        let Value::Array(items) = v else {
+            return Err(self.error(
+                key,
+                format!("expected a list of numbers, found {}", type_name(v)),
+            ));
+        };
+        let mut out = Vec::with_capacity(items.len());
+        for (i, item) in items.iter().enumerate() {
+            let n = number(item).ok_or_else(|| {
+                self.error(
+                    &format!("{key}[{i}]"),
+                    format!("expected a number, found {}", type_name(item)),
+                )
+            })?;
+            let f = n as f32;
+            if !f.is_finite() {
+                return Err(self.error(
+                    &format!("{key}[{i}]"),
+                    format!("must be finite, got {}", show(n)),
+                ));
+            }
+            out.push(f);
+        }
+        Ok(Some(out))
+    }
+
+    /// A list of lists of `n` finite numbers (`[[0, 0, 0], [1, 0, 0]]`).
+    pub(crate) fn rows(&self, key: &'a str, n: usize) -> Result<Option<Vec<Vec<f32>>>, SceneError> {
+        let Some(v) = self.get(key) else {
+            return Ok(None);
+        };
+        let Value::Array(items) = v else {
+            return Err(self.error(
+                key,
+                format!(
+                    "expected a list of lists of {n} numbers, found {}",
+                    type_name(v)
+                ),
+            ));
+        };
+        let mut out = Vec::with_capacity(items.len());
+        for (i, item) in items.iter().enumerate() {
+            let at = format!("{key}[{i}]");
+            let Value::Array(row) = item else {
+                return Err(self.error(
+                    &at,
+                    format!("expected {n} numbers, found {}", type_name(item)),
+                ));
+            };
+            if row.len() != n {
+                return Err(self.error(&at, format!("expected {n} numbers, found {}", row.len())));
+            }
+            let mut r = Vec::with_capacity(n);
+            for x in row {
+                let v = number(x).ok_or_else(|| {
+                    self.error(
+                        &at,
+                        format!("expected {n} numbers, found {} in the list", type_name(x)),
+                    )
+                })?;
+                let f = v as f32;
+                if !f.is_finite() {
+                    return Err(self.error(&at, format!("must be finite, got {}", show(v))));
+                }
+                r.push(f);
+            }
+            out.push(r);
+        }
+        Ok(Some(out))
+    }
+
     /// A required vector.
     pub(crate) fn req_vec3(&self, key: &'a str) -> Result<Vec3, SceneError> {
         self.vec3(key)?.ok_or_else(|| self.error(key, "missing"))

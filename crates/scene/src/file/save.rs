@@ -13,19 +13,23 @@ use crate::components::{
     BumpSource, MaterialDef, MaterialName, MeshRef, MeshSource, Name, Primitive, Shading, Transform,
 };
 use crate::error::SceneError;
+use crate::hierarchy::{LocalCamera, LocalLight, LocalTransform};
 use crate::{CullChoice, RenderSettings, Scene};
 
 fn v3(v: Vec3) -> Value {
-    Value::Array(
-        v.to_array()
-            .iter()
-            .map(|&x| Value::Float(f64::from(x)))
-            .collect(),
-    )
+    Value::Array(v.to_array().iter().map(|&x| f(x)).collect())
+}
+
+/// `x` as the shortest decimal that reads back as the same `f32` (`0.2`, not the
+/// `0.20000000298023224` that widening to `f64` first would write). Rust's `Display` for
+/// floats is that shortest round-tripping form, and it parses as an `f64` that narrows back
+/// to `x` exactly; `inf` and `nan` pass through as TOML's own.
+pub(crate) fn shortest(x: f32) -> f64 {
+    x.to_string().parse::<f64>().unwrap_or(f64::from(x))
 }
 
 fn f(x: f32) -> Value {
-    Value::Float(f64::from(x))
+    Value::Float(shortest(x))
 }
 
 fn s(x: &str) -> Value {
@@ -284,29 +288,66 @@ fn primitive_table(p: &Primitive) -> Table {
 pub fn scene_to_toml(scene: &Scene) -> String {
     let mut root = Table::new();
     root.insert("render".into(), Value::Table(render_table(&scene.settings)));
-    root.insert("camera".into(), Value::Table(camera_table(&scene.camera())));
+    let camera_entity = scene.entities_with::<Camera>().first().copied();
+    // A camera on a rig is written where it sits in its parent's space.
+    let camera = camera_entity
+        .and_then(|e| scene.world.get::<&LocalCamera>(e).ok().map(|c| c.0))
+        .unwrap_or_else(|| scene.camera());
+    let mut camera_t = camera_table(&camera);
+    if let Some(e) = camera_entity {
+        super::motion::write_motion(scene, e, &mut camera_t);
+    }
+    root.insert("camera".into(), Value::Table(camera_t));
     let mut ambient = Table::new();
     ambient.insert("intensity".into(), v3(scene.ambient));
     root.insert("ambient".into(), Value::Table(ambient));
+    // A carried light is written where it sits in its parent's space.
     let lights: Vec<Value> = scene
-        .lights()
-        .iter()
-        .map(|(name, l)| Value::Table(light_table(name, l)))
+        .light_entities()
+        .into_iter()
+        .zip(scene.lights())
+        .map(|(e, (name, mut l))| {
+            if let Ok(local) = scene.world.get::<&LocalLight>(e) {
+                l.kind = local.0;
+            }
+            let mut t = light_table(&name, &l);
+            super::motion::write_motion(scene, e, &mut t);
+            Value::Table(t)
+        })
         .collect();
     root.insert("lights".into(), Value::Array(lights));
     let mut materials = Table::new();
     for (name, def) in &scene.materials {
         materials.insert(name.clone(), Value::Table(material_table(def)));
     }
-    root.insert("materials".into(), Value::Table(materials));
     let mut objects = Vec::new();
+    // Objects without a name, transform or material are not drawn either
+    // (`render::unrenderable` warns of them); an object whose material is not in the table
+    // (spawned by hand, without a `MaterialName`) gets an entry of its own.
     for e in scene.objects() {
-        let mut q = scene
-            .world
-            .query_one::<(&Name, &Transform, &MeshRef, &MaterialName, Option<&Shading>)>(e);
-        let Ok((name, tr, mesh, mat, shading)) = q.get() else {
+        let mut q = scene.world.query_one::<(
+            &Name,
+            &Transform,
+            &MeshRef,
+            &Material,
+            Option<&MaterialName>,
+            Option<&Shading>,
+        )>(e);
+        let Ok((name, tr, mesh, coefficients, mat, shading)) = q.get() else {
             continue;
         };
+        let mat = match mat {
+            Some(m) if scene.materials.contains_key(&m.0) || m.0 == "default" => m.0.clone(),
+            _ => {
+                let own = format!("{} (own)", name.0);
+                materials.insert(
+                    own.clone(),
+                    Value::Table(material_table(&MaterialDef::from(*coefficients))),
+                );
+                own
+            }
+        };
+        let mat = MaterialName(mat);
         let mut t = Table::new();
         t.insert("name".into(), s(&name.0));
         match &mesh.0.source {
@@ -351,6 +392,8 @@ pub fn scene_to_toml(scene: &Scene) -> String {
             }),
         );
         t.insert("normals".into(), Value::Table(nt));
+        let tr = scene.world.get::<&LocalTransform>(e).map_or(*tr, |l| l.0);
+        super::motion::write_motion(scene, e, &mut t);
         let mut tt = Table::new();
         tt.insert("translate".into(), v3(tr.translate));
         tt.insert("rotate_deg".into(), v3(tr.rotate_deg));
@@ -358,6 +401,7 @@ pub fn scene_to_toml(scene: &Scene) -> String {
         t.insert("transform".into(), Value::Table(tt));
         objects.push(Value::Table(t));
     }
+    root.insert("materials".into(), Value::Table(materials));
     root.insert("objects".into(), Value::Array(objects));
     toml::to_string(&root).unwrap_or_default()
 }
