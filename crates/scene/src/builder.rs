@@ -226,16 +226,26 @@ impl Scene {
                 kind: *kind,
                 scale: *scale,
             })),
-            Some((BumpSource::Map { resolved, .. }, scale)) => {
+            Some((
+                src @ (BumpSource::Map { resolved, .. } | BumpSource::Normals { resolved, .. }),
+                scale,
+            )) => {
+                type Decode = fn(&[u8], &std::path::Path, f32) -> Result<BumpMap, String>;
+                let (key, decode) = match src {
+                    BumpSource::Normals { .. } => (
+                        "bump.normals",
+                        crate::file::bump_image::decode_normals as Decode,
+                    ),
+                    _ => ("bump.map", crate::file::bump_image::decode as Decode),
+                };
                 let bytes = std::fs::read(resolved).map_err(|e| {
                     code_error(
-                        field("bump.map"),
+                        field(key),
                         format!("{}: cannot read: {e}", resolved.display()),
                     )
                 })?;
                 Some(Arc::new(
-                    crate::file::bump_image::decode(&bytes, resolved, *scale)
-                        .map_err(|e| code_error(field("bump.map"), e))?,
+                    decode(&bytes, resolved, *scale).map_err(|e| code_error(field(key), e))?,
                 ))
             }
         };
