@@ -71,20 +71,12 @@ impl BumpMap {
         height: u32,
         scale: f32,
     ) -> Result<BumpMap, RasterError> {
-        if !scale.is_finite() {
-            return Err(RasterError::BadBump(format!("scale {scale} is not finite")));
-        }
-        if width == 0 || height == 0 {
-            return Err(RasterError::BadBump(format!(
-                "empty height field ({width}x{height})"
-            )));
-        }
-        if heights.len() as u64 != u64::from(width) * u64::from(height) {
-            return Err(RasterError::BadBump(format!(
-                "{} heights for {width}x{height} texels",
-                heights.len()
-            )));
-        }
+        check_texels(
+            heights.len(),
+            (width, height),
+            scale,
+            ("height field", "heights"),
+        )?;
         for h in &mut heights {
             if !h.is_finite() {
                 *h = 0.0;
@@ -111,20 +103,12 @@ impl BumpMap {
         height: u32,
         scale: f32,
     ) -> Result<BumpMap, RasterError> {
-        if !scale.is_finite() {
-            return Err(RasterError::BadBump(format!("scale {scale} is not finite")));
-        }
-        if width == 0 || height == 0 {
-            return Err(RasterError::BadBump(format!(
-                "empty normal map ({width}x{height})"
-            )));
-        }
-        if normals.len() as u64 != u64::from(width) * u64::from(height) {
-            return Err(RasterError::BadBump(format!(
-                "{} normals for {width}x{height} texels",
-                normals.len()
-            )));
-        }
+        check_texels(
+            normals.len(),
+            (width, height),
+            scale,
+            ("normal map", "normals"),
+        )?;
         for n in &mut normals {
             *n = safe_normalize(*n, Vec3::Z);
             if n.z <= 0.0 {
@@ -218,6 +202,30 @@ impl BumpMap {
         let m = self.tangent_normal(uv);
         safe_normalize(t * m.x + b * m.y + n * m.z, n)
     }
+}
+
+/// The checks both raw maps share: a finite `scale`, a non-empty `width x height`, and `len`
+/// texels for it; `what` names the map and its texels in the message.
+fn check_texels(
+    len: usize,
+    (width, height): (u32, u32),
+    scale: f32,
+    (map, texels): (&str, &str),
+) -> Result<(), RasterError> {
+    if !scale.is_finite() {
+        return Err(RasterError::BadBump(format!("scale {scale} is not finite")));
+    }
+    if width == 0 || height == 0 {
+        return Err(RasterError::BadBump(format!(
+            "empty {map} ({width}x{height})"
+        )));
+    }
+    if len as u64 != u64::from(width) * u64::from(height) {
+        return Err(RasterError::BadBump(format!(
+            "{len} {texels} for {width}x{height} texels"
+        )));
+    }
+    Ok(())
 }
 
 fn procedural_gradient(kind: ProceduralBump, uv: Vec2) -> Vec2 {
