@@ -31,7 +31,10 @@
 
 use glam::{DVec3, Vec3};
 
+mod chain;
 mod fast;
+
+use chain::Chain;
 
 /// Largest side of a texture, in texels (the image crate's and most GPUs' limit).
 pub const MAX_TEXTURE_SIDE: u32 = 16384;
@@ -95,48 +98,10 @@ impl std::fmt::Display for TextureError {
 
 impl std::error::Error for TextureError {}
 
-/// One level of the chain.
-#[derive(Debug, Clone)]
-struct Level {
-    width: usize,
-    height: usize,
-    /// Rows from the top.
-    texels: Vec<Vec3>,
-}
-
-impl Level {
-    #[inline(always)]
-    fn at(&self, i: usize, j: usize) -> Vec3 {
-        self.texels
-            .get(j * self.width + i)
-            .copied()
-            .unwrap_or(Vec3::ZERO)
-    }
-
-    /// The next level: each texel the mean of the (up to) 2x2 texels above it.
-    fn halved(&self) -> Level {
-        let (w, h) = ((self.width / 2).max(1), (self.height / 2).max(1));
-        let mut texels = Vec::with_capacity(w * h);
-        for j in 0..h {
-            for i in 0..w {
-                let (i0, j0) = (2 * i, 2 * j);
-                let (i1, j1) = ((i0 + 1).min(self.width - 1), (j0 + 1).min(self.height - 1));
-                let sum = self.at(i0, j0) + self.at(i1, j0) + self.at(i0, j1) + self.at(i1, j1);
-                texels.push(sum * 0.25);
-            }
-        }
-        Level {
-            width: w,
-            height: h,
-            texels,
-        }
-    }
-}
-
 /// An RGB image in linear values with its mipmap chain, built once.
 #[derive(Debug, Clone)]
 pub struct Texture {
-    levels: Vec<Level>,
+    chain: Chain,
     wrap: (Wrap, Wrap),
     filter: Filter,
 }
@@ -189,17 +154,8 @@ impl Texture {
         for t in &mut texels {
             *t = Vec3::select(t.cmpge(Vec3::ZERO) & t.is_finite_mask(), *t, Vec3::ZERO);
         }
-        let mut levels = vec![Level {
-            width: width as usize,
-            height: height as usize,
-            texels,
-        }];
-        while let Some(last) = levels.last().filter(|l| l.width > 1 || l.height > 1) {
-            let next = last.halved();
-            levels.push(next);
-        }
         Ok(Texture {
-            levels,
+            chain: Chain::build(width as usize, height as usize, &texels, Wrap::Repeat),
             wrap: (Wrap::Repeat, Wrap::Repeat),
             filter: Filter::Trilinear,
         })
@@ -243,15 +199,14 @@ impl Texture {
     /// before it decodes an image.
     #[must_use]
     pub fn bytes_for(width: u32, height: u32) -> u64 {
-        // A chain is at most 4/3 of its top level (plus a row and column per level for odd
-        // sides, under 1/3 again).
-        u64::from(width) * u64::from(height) * std::mem::size_of::<Vec3>() as u64 * 16 / 9 + 64
+        Chain::bytes_for(width, height)
     }
 
     /// The same texture with wrap modes `u` and `v`.
     #[must_use]
     pub fn with_wrap(mut self, u: Wrap, v: Wrap) -> Texture {
         self.wrap = (u, v);
+        self.chain.pad(u);
         self
     }
 
@@ -266,12 +221,7 @@ impl Texture {
             factor,
             Vec3::ZERO,
         );
-        for level in &mut self.levels {
-            for t in &mut level.texels {
-                *t *= f;
-                *t = Vec3::select(t.is_finite_mask(), *t, Vec3::ZERO);
-            }
-        }
+        self.chain.scale(f);
         self
     }
 
@@ -291,20 +241,25 @@ impl Texture {
     /// Mip levels, level 0 included.
     #[must_use]
     pub fn levels(&self) -> usize {
-        self.levels.len()
+        self.chain.levels.len()
     }
 
     /// Width and height of level 0.
     #[must_use]
     pub fn size(&self) -> (u32, u32) {
-        (self.levels[0].width as u32, self.levels[0].height as u32)
+        (
+            self.chain.levels[0].width as u32,
+            self.chain.levels[0].height as u32,
+        )
     }
 
     /// Texel `(i, j)` of `level` (column, row from the top), wrapped as the texture wraps.
     #[must_use]
     pub fn texel(&self, level: usize, i: i64, j: i64) -> Vec3 {
-        let l = &self.levels[level.min(self.levels.len() - 1)];
-        l.at(
+        let level = level.min(self.chain.levels.len() - 1);
+        let l = &self.chain.levels[level];
+        self.chain.at(
+            level,
             wrap_index(i, l.width, self.wrap.0),
             wrap_index(j, l.height, self.wrap.1),
         )
@@ -314,13 +269,16 @@ impl Texture {
     /// `log2` of the footprint in level-0 texels, clamped to the chain (0 when magnified).
     #[must_use]
     pub fn level_of(&self, d: [f64; 4]) -> f64 {
-        let (w, h) = (self.levels[0].width as f64, self.levels[0].height as f64);
+        let (w, h) = (
+            self.chain.levels[0].width as f64,
+            self.chain.levels[0].height as f64,
+        );
         let d = d.map(finite);
         let x = (d[0] * w).hypot(d[1] * h);
         let y = (d[2] * w).hypot(d[3] * h);
         let rho = x.max(y);
         if rho > 1.0 {
-            rho.log2().min((self.levels.len() - 1) as f64)
+            rho.log2().min((self.chain.levels.len() - 1) as f64)
         } else {
             0.0
         }
@@ -328,18 +286,20 @@ impl Texture {
 
     /// Bilinear sample of one level at `(u, v)`, in `f64`.
     fn bilinear(&self, level: usize, u: f64, v: f64) -> DVec3 {
-        let l = &self.levels[level];
+        let l = &self.chain.levels[level];
         let x = u * l.width as f64 - 0.5;
         let y = (1.0 - v) * l.height as f64 - 0.5;
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
         let (i, j) = (x0 as i64, y0 as i64);
         let t = |di: i64, dj: i64| {
-            l.at(
-                wrap_index(i + di, l.width, self.wrap.0),
-                wrap_index(j + dj, l.height, self.wrap.1),
-            )
-            .as_dvec3()
+            self.chain
+                .at(
+                    level,
+                    wrap_index(i + di, l.width, self.wrap.0),
+                    wrap_index(j + dj, l.height, self.wrap.1),
+                )
+                .as_dvec3()
         };
         let top = t(0, 0) * (1.0 - fx) + t(1, 0) * fx;
         let bottom = t(0, 1) * (1.0 - fx) + t(1, 1) * fx;
@@ -354,7 +314,7 @@ impl Texture {
         let (u, v) = (finite(u), finite(v));
         match self.filter {
             Filter::Nearest => {
-                let l = &self.levels[0];
+                let l = &self.chain.levels[0];
                 let i = (u * l.width as f64).floor() as i64;
                 let j = ((1.0 - v) * l.height as f64).floor() as i64;
                 self.texel(0, i, j).as_dvec3()
@@ -366,7 +326,7 @@ impl Texture {
                 let f = lod - lo;
                 let lo = lo as usize;
                 let a = self.bilinear(lo, u, v);
-                if f > 0.0 && lo + 1 < self.levels.len() {
+                if f > 0.0 && lo + 1 < self.chain.levels.len() {
                     a * (1.0 - f) + self.bilinear(lo + 1, u, v) * f
                 } else {
                     a
