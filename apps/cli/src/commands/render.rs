@@ -92,6 +92,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         fast_phong: args.variants.fast_phong(),
         interpolation: args.variants.interpolation(),
         simd,
+        shadows: args.shadows.shadows(),
         ..FrameOptions::default()
     };
     let encoding = match args.encoding {
