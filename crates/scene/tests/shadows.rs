@@ -1,6 +1,6 @@
 //! Shadows in the frame plan: a map only where a caster can darken a visible receiver, the
-//! same bytes as shadows off when none is made, the fields saved and loaded, and the same
-//! picture for any thread count.
+//! same bytes as shadows off when none is made, the fields saved and loaded, the default
+//! scene's contact shadows, and the same picture for any thread count.
 
 #![allow(clippy::unwrap_used)]
 
@@ -191,4 +191,14 @@ fn bad_shadow_values_are_errors_naming_the_field() {
     let e = bad(&format!("{BALL}\ncast_shadows = \"yes\"\n")
         .replace("[[objects]]", "[materials.m]\nkd = [1, 1, 1]\n[[objects]]"));
     assert!(e.contains("cast_shadows"), "{e}");
+}
+
+#[test]
+fn the_default_scene_makes_its_key_lights_map() {
+    let s = Scene::default_scene().unwrap();
+    let plan = plan_frame(&s, &s.camera(), (320, 180), &FrameOptions::default());
+    assert_eq!(plan.shadows.maps.len(), 1, "{plan}");
+    let text = plan.to_string();
+    assert!(text.contains("shadow map of key: "), "{text}");
+    assert!(text.contains("perspective view"), "{text}");
 }
