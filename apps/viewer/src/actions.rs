@@ -63,6 +63,14 @@ impl Viewer {
                 self.bump = !self.bump;
                 true
             }
+            Action::CycleShadows => {
+                self.shadows = match self.shadows {
+                    None => Some(false),
+                    Some(false) => Some(true),
+                    Some(true) => None,
+                };
+                true
+            }
             Action::ToggleMaps => {
                 self.textures = !self.textures;
                 true

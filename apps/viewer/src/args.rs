@@ -12,6 +12,18 @@ use phosphor_scene::ShadingChoice;
 /// Help heading of `--frames`, `--screenshot` and `--force`.
 pub const FRAMES_HEADING: &str = "Frames and screenshots (close after N frames)";
 
+/// `on` or `off`.
+///
+/// # Errors
+/// Anything else.
+pub fn parse_on_off(text: &str) -> Result<bool, String> {
+    match text {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        other => Err(format!("expected on or off, got '{other}'")),
+    }
+}
+
 /// Largest accepted window side, in pixels.
 pub const MAX_SIDE: u32 = 16_384;
 
@@ -53,6 +65,11 @@ pub struct Args {
         value_parser = phosphor_args::parse_antialias
     )]
     pub aa: Option<Antialias>,
+    /// Shadow maps for every directional, spot and point light (on) or none (off), overriding
+    /// the scene's `shadows = true` per light (default: as the scene says). Key D cycles the
+    /// scene's, off and on.
+    #[arg(long, help_heading = RENDERING_HEADING, value_name = "on|off", value_parser = parse_on_off)]
+    pub shadows: Option<bool>,
     /// Draw this many frames, then exit.
     #[arg(
         long,
@@ -128,7 +145,7 @@ mod tests {
     fn expected(flag: &str) -> Option<&'static str> {
         Some(match flag {
             "mesh" => INPUT_HEADING,
-            "size" | "shading" | "aa" => RENDERING_HEADING,
+            "size" | "shading" | "aa" | "shadows" => RENDERING_HEADING,
             "frames" | "screenshot" | "force" => FRAMES_HEADING,
             "eye" | "target" | "up" | "fov" | "azimuth" | "elevation" | "distance" | "ortho"
             | "view" => CAMERA_HEADING,

@@ -34,6 +34,7 @@ const KEY_HELP_TAIL: &str = "\
   F1..F8 (or shift+1..8)  toggle light 1..8 (in scene-file order)
   B                    toggle bump mapping
   M                    toggle colour maps (textures)
+  D                    shadows: the scene's, off, on (every directional, spot and point light)
   P                    toggle perspective-correct interpolation
   A                    anti-aliasing of the still picture: off, msaa4, ssaa4, msaa16, ssaa16
   T                    fast-phong: Taylor expansion (Bishop and Weimer 1986) / six-point fit
@@ -97,6 +98,8 @@ pub enum Action {
     ToggleLight(usize),
     /// Toggle bump mapping.
     ToggleBump,
+    /// Cycle shadows: the scene's, off, on.
+    CycleShadows,
     /// Toggle colour maps.
     ToggleMaps,
     /// Toggle perspective-correct interpolation.
@@ -168,6 +171,7 @@ pub fn key_action(code: KeyCode, shift: bool) -> Option<Action> {
         KeyCode::F8 => Some(Action::ToggleLight(7)),
         KeyCode::KeyB => Some(Action::ToggleBump),
         KeyCode::KeyM => Some(Action::ToggleMaps),
+        KeyCode::KeyD => Some(Action::CycleShadows),
         KeyCode::KeyP => Some(Action::TogglePerspective),
         KeyCode::KeyA => Some(Action::CycleAntialias),
         KeyCode::KeyT => Some(Action::ToggleFastPhong),
@@ -439,6 +443,7 @@ mod tests {
         }
         assert_eq!(key_action(KeyCode::KeyB, false), Some(Action::ToggleBump));
         assert_eq!(key_action(KeyCode::KeyM, false), Some(Action::ToggleMaps));
+        assert_eq!(key_action(KeyCode::KeyD, false), Some(Action::CycleShadows));
         assert_eq!(
             key_action(KeyCode::KeyA, false),
             Some(Action::CycleAntialias)

@@ -126,6 +126,7 @@ fn main() -> ExitCode {
     viewer.shading = args.shading.filter(|s| *s != ShadingChoice::Auto);
     viewer.force = args.force;
     viewer.fixed_frames = args.frames.is_some();
+    viewer.shadows = args.shadows;
     viewer.antialias = match args.aa {
         Some(aa) => aa,
         // Frames for measurements and screenshots draw what the scene asks for; a person

@@ -66,6 +66,8 @@ pub struct Viewer {
     pub orbit: OrbitCamera,
     pub shading: Option<ShadingChoice>,
     pub bump: bool,
+    /// Shadows: the scene's (`None`), or on or off for every light (`--shadows`, key D).
+    pub shadows: Option<bool>,
     /// Colour maps on.
     pub textures: bool,
     pub perspective_correct: bool,
@@ -148,6 +150,7 @@ impl Viewer {
             home,
             shading: None,
             bump: true,
+            shadows: None,
             textures: true,
             fb: None,
             force: false,
@@ -238,6 +241,7 @@ impl View for Viewer {
             antialias: Some(self.frame_antialias()),
             fast_phong: Some(self.fast_phong),
             interpolation: Some(self.interpolation),
+            shadows: self.shadows,
             ..FrameOptions::default()
         };
         let report = render_frame(&self.scene, &mut fb, &opts);
@@ -274,7 +278,7 @@ impl View for Viewer {
             .shading
             .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
         format!(
-            "Phosphor | {}{mode}{}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            "Phosphor | {}{mode}{}{}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
             if self.animated() {
                 format!(
                     "t {:.2} s {} | ",
@@ -299,6 +303,11 @@ impl View for Viewer {
                 ""
             },
             if self.bump { "" } else { " | bump off" },
+            match self.shadows {
+                None => "",
+                Some(true) => " | shadows on",
+                Some(false) => " | shadows off",
+            },
             if self.textures { "" } else { " | maps off" },
             if self.perspective_correct {
                 ""

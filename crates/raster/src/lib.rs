@@ -85,6 +85,7 @@ mod render;
 pub(crate) mod setup;
 pub mod shader;
 pub mod shaders;
+pub mod shadow;
 pub mod simd;
 pub mod texture;
 pub(crate) mod traverse;
@@ -103,6 +104,7 @@ pub use render::{Frame, coverage_counts, render, render_fill_only};
 pub use shader::Shader;
 pub use shaders::check::FAST_PHONG_TOLERANCE;
 pub use shaders::taylor::MAX_TAYLOR_LIGHTS;
+pub use shadow::{ShadowLight, ShadowMap};
 pub use simd::{SimdLevel, UnknownSimdLevel};
 pub use texture::{Filter, Texture, TextureError, Wrap};
 

@@ -158,6 +158,18 @@ impl<'f> Frame<'f> {
         }
     }
 
+    /// Draws `d` with shadows: `shadowed` are its lights that have a map, `rest` its other
+    /// lights and the ambient, and `d.lights` all of them ([`crate::shadow::shade`] says how
+    /// each mode and tint is drawn). With no map it is [`Frame::draw_item`].
+    pub fn draw_shadowed(
+        &mut self,
+        d: &DrawItem,
+        rest: &phosphor_lighting::LightSet,
+        shadowed: &[crate::shadow::ShadowLight],
+    ) {
+        crate::shadow::shade::draw(self, d, rest, shadowed);
+    }
+
     /// Ends the frame (the clear no draw took, the anti-aliasing resolve) and returns what it
     /// did.
     pub fn finish(mut self) -> RenderStats {
@@ -247,6 +259,20 @@ pub fn coverage_counts(
         );
     }
     Ok(fb.color.iter().map(|c| c.x as u32).collect())
+}
+
+/// Draws `mesh` placed by `model` into `fb` seen through `vp`, every face, for its depth
+/// alone: a shadow map's casters.
+pub(crate) fn run_depth(
+    fb: &mut Framebuffer,
+    vp: Mat4,
+    mesh: &MeshView,
+    model: Mat4,
+    opts: &RenderOptions,
+    stats: &mut RenderStats,
+) {
+    let fill = Fill { color: Vec3::ZERO };
+    run(fb, (vp, mesh, model), &fill, opts, stats, (1, false, false));
 }
 
 /// Runs `shader` over one draw through the three stages: vertex, bin (both in parallel over

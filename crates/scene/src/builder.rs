@@ -447,6 +447,14 @@ impl ObjectBuilder<'_> {
         self
     }
 
+    /// Whether it casts and receives shadows (`cast_shadows`, `receive_shadows`; both on
+    /// unless set).
+    pub fn shadows(mut self, cast: bool, receive: bool) -> Self {
+        self.extra
+            .add(crate::components::ShadowRole { cast, receive });
+        self
+    }
+
     /// Adds any other component.
     pub fn with<T: hecs::Component>(mut self, component: T) -> Self {
         self.extra.add(component);
@@ -511,6 +519,13 @@ pub struct LightBuilder<'a> {
 
 impl LightBuilder<'_> {
     motion_methods!();
+
+    /// Gives it shadows (`shadows = true`): a shadow map wherever the frame plan finds a
+    /// caster between it and a visible receiver.
+    pub fn shadows(mut self) -> Self {
+        self.extra.add(crate::components::CastsShadows);
+        self
+    }
 
     /// Adds any other component.
     pub fn with<T: hecs::Component>(mut self, component: T) -> Self {

@@ -308,6 +308,31 @@ impl FromStr for ShadingChoice {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shading(pub ShadingChoice);
 
+/// On a light: it casts shadows (`shadows = true` in a scene file; off without this
+/// component). Its shadow map is made only when the frame plan finds a caster that can stand
+/// between it and a visible receiver.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CastsShadows;
+
+/// On an object: whether it casts and receives shadows (`cast_shadows`, `receive_shadows`;
+/// both on without this component).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShadowRole {
+    /// It can darken other objects (and itself).
+    pub cast: bool,
+    /// Shadows fall on it.
+    pub receive: bool,
+}
+
+impl Default for ShadowRole {
+    fn default() -> Self {
+        ShadowRole {
+            cast: true,
+            receive: true,
+        }
+    }
+}
+
 /// Figures about a mesh that the frame plan uses, computed once per mesh.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeshInfo {

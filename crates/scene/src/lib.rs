@@ -1,8 +1,8 @@
 //! `phosphor-scene`: the ECS of Phosphor. A [hecs] `World` holds the objects (mesh, material,
 //! transform, optional bump map and shading override), the lights and the camera; scene files
 //! (TOML) load into it and save from it; the frame plan decides per object which effects to
-//! simulate, which lights reach it and how to shade it; the render system hands plain draw
-//! data to `phosphor-raster`.
+//! simulate, which lights reach it and how to shade it, and which lights get a shadow map
+//! ([`shadows`]); the render system hands plain draw data to `phosphor-raster`.
 //!
 //! Systems are free functions over the scene ([`plan::plan_frame`], [`render::render_frame`]);
 //! there is no global state.
@@ -72,14 +72,15 @@ pub mod hierarchy;
 pub mod plan;
 pub mod preset;
 pub mod render;
+pub mod shadows;
 pub mod textures;
 pub mod view;
 
 pub use budget::{MAX_DISTRIBUTED_SAMPLES, SampleCut, limit_distributed_samples, point_samples};
 pub use builder::{LightBuilder, MaterialHandle, MeshHandle, ObjectBuilder};
 pub use components::{
-    Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, Primitive,
-    SceneMesh, Shading, ShadingChoice, Transform,
+    Bump, BumpSource, CastsShadows, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name,
+    Primitive, SceneMesh, Shading, ShadingChoice, ShadowRole, Transform,
 };
 pub use error::SceneError;
 pub use error_bound::{ErrorBounds, shading_error_bounds};
@@ -89,7 +90,9 @@ pub use plan::{
     AUTO_TOLERANCE, AutoInput, FrameOptions, FramePlan, PlannedObject, linear_tolerance,
     pixels_per_triangle, plan_frame,
 };
-pub use render::{FrameReport, draw_items, raster_options, render_frame, unrenderable};
+pub use render::{
+    FrameReport, draw_items, raster_options, render_frame, render_plan, unrenderable,
+};
 pub use textures::ColorMap;
 
 /// Largest accepted image side, in pixels.
@@ -124,6 +127,9 @@ pub struct RenderSettings {
     /// How `gouraud` and `phong` interpolate (`interpolation = "plane" | "incremental"`, plane
     /// unless set).
     pub interpolation: Interpolation,
+    /// Side of every shadow map in texels (`shadow_size`; 0, the default, derives it from the
+    /// receivers' footprint on screen).
+    pub shadow_size: u32,
 }
 
 /// Back-face culling of a scene (`[render] cull_backfaces`).
@@ -154,6 +160,7 @@ impl Default for RenderSettings {
             gouraud_vertex_clamp: true,
             fast_phong: FastPhongMethod::Fit,
             interpolation: Interpolation::Plane,
+            shadow_size: 0,
         }
     }
 }

@@ -106,6 +106,10 @@ pub struct FrameOptions {
     pub interpolation: Option<phosphor_raster::Interpolation>,
     /// The vector width of per-pixel lighting (`--simd`; the same picture at every level).
     pub simd: phosphor_raster::SimdLevel,
+    /// Overrides every light's `shadows` (`--shadows on|off`, the viewer's `H` key): `Some(false)`
+    /// turns every shadow off, `Some(true)` turns them on for every directional, spot and
+    /// point light.
+    pub shadows: Option<bool>,
 }
 
 impl Default for FrameOptions {
@@ -121,6 +125,7 @@ impl Default for FrameOptions {
             fast_phong: None,
             interpolation: None,
             simd: phosphor_raster::SimdLevel::Auto,
+            shadows: None,
         }
     }
 }
@@ -156,6 +161,8 @@ pub struct PlannedObject {
     pub cull_backfaces: bool,
     /// Why they are or are not.
     pub cull_reason: &'static str,
+    /// Whether shadows fall on it (`receive_shadows`, on by default).
+    pub receives_shadows: bool,
 }
 
 /// What one frame will draw, and how.
@@ -169,6 +176,11 @@ pub struct FramePlan {
     pub light_names: Vec<String>,
     /// One prepared light set per distinct set of kept lights.
     pub light_sets: Vec<LightSet>,
+    /// Every object that casts shadows, visible or not (filled only when a light has shadows
+    /// on).
+    pub casters: Vec<crate::shadows::ShadowCaster>,
+    /// The shadow maps this frame makes, and why the other shadowing lights get none.
+    pub shadows: crate::shadows::ShadowPlan,
 }
 
 /// A sphere in world space.
@@ -604,9 +616,10 @@ pub fn plan_frame(
             Option<&Bump>,
             Option<&Shading>,
             Option<&ColorMap>,
+            Option<&crate::components::ShadowRole>,
         )>()
         .iter()
-        .map(|(e, n, t, m, mat, b, s, c)| {
+        .map(|(e, n, t, m, mat, b, s, c, role)| {
             (
                 e,
                 n.0.clone(),
@@ -615,12 +628,12 @@ pub fn plan_frame(
                 *mat,
                 b.map(|b| b.0.clone()),
                 s.map(|s| s.0),
-                c.map(|c| c.0.clone()),
+                (c.map(|c| c.0.clone()), role.is_none_or(|r| r.receive)),
             )
         })
         .collect();
     objects.sort_by_key(|o| o.0.id());
-    for (entity, name, tr, mesh, material, bump, shading, texture) in objects {
+    for (entity, name, tr, mesh, material, bump, shading, (texture, receives_shadows)) in objects {
         // Sampling is compiled into the draw only where a map is drawn.
         let texture = texture.filter(|_| opts.textures && mesh.mesh.uvs.is_some());
         let model = tr.matrix();
@@ -716,7 +729,26 @@ pub fn plan_frame(
             light_set: set_index,
             cull_backfaces,
             cull_reason,
+            receives_shadows,
         });
+    }
+    let shadowing = opts.shadows == Some(true)
+        || (opts.shadows.is_none()
+            && scene
+                .world
+                .query::<&crate::components::CastsShadows>()
+                .iter()
+                .next()
+                .is_some());
+    if shadowing {
+        plan.casters = crate::shadows::casters(scene);
+        plan.shadows = crate::shadows::plan_shadows(
+            scene,
+            &plan.objects,
+            &plan.casters,
+            (camera, viewport),
+            opts,
+        );
     }
     plan
 }
@@ -767,6 +799,36 @@ impl fmt::Display for FramePlan {
         }
         for c in &self.culled {
             writeln!(f, "  {c}: culled (outside the view frustum)")?;
+        }
+        for m in &self.shadows.maps {
+            let names = |list: &[String]| list.join(", ");
+            let casters: Vec<String> = m
+                .casters
+                .iter()
+                .map(|&c| self.casters[c].name.clone())
+                .collect();
+            let receivers: Vec<String> = m
+                .receivers
+                .iter()
+                .map(|&r| self.objects[r].name.clone())
+                .collect();
+            writeln!(
+                f,
+                "  shadow map of {}: {}x{} ({}), {} view; casters: {}; receivers: {}",
+                self.light_names[m.light],
+                m.size,
+                m.size,
+                m.size_reason,
+                match m.view.projection {
+                    phosphor_raster::shadow::Projection::Orthographic { .. } => "orthographic",
+                    phosphor_raster::shadow::Projection::Perspective { .. } => "perspective",
+                },
+                names(&casters),
+                names(&receivers)
+            )?;
+        }
+        for (light, why) in &self.shadows.skipped {
+            writeln!(f, "  no shadow map for {}: {why}", self.light_names[*light])?;
         }
         Ok(())
     }

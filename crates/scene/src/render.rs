@@ -3,9 +3,10 @@
 
 use std::time::{Duration, Instant};
 
-use phosphor_raster::{DrawItem, Framebuffer, MeshView, RenderOptions, RenderStats};
-
-use phosphor_lighting::Material;
+use glam::Vec3;
+use phosphor_lighting::{Light, LightSet, Material};
+use phosphor_raster::shadow::{Caster, ShadowLight, ShadowMap};
+use phosphor_raster::{Camera, DrawItem, Frame, Framebuffer, MeshView, RenderOptions, RenderStats};
 
 use crate::Scene;
 use crate::components::{MeshRef, Name, Transform};
@@ -20,8 +21,10 @@ pub struct FrameReport {
     pub stats: RenderStats,
     /// Time spent planning.
     pub plan_time: Duration,
-    /// Time spent rasterizing and shading.
+    /// Time spent rasterizing and shading (the shadow maps included).
     pub raster_time: Duration,
+    /// Time spent rendering each shadow map, in the order of the plan's maps.
+    pub shadow_times: Vec<Duration>,
     /// Entities with a mesh that were not drawn for want of a component
     /// ([`unrenderable`]), one `warning: ...` line each.
     pub warnings: Vec<String>,
@@ -126,17 +129,102 @@ pub fn render_frame(scene: &Scene, fb: &mut Framebuffer, opts: &FrameOptions) ->
     let plan = plan_frame(scene, &camera, (fb.width(), fb.height()), opts);
     let plan_time = start.elapsed();
     let start = Instant::now();
-    let stats = phosphor_raster::render(
-        fb,
-        &camera,
-        &draw_items(&plan),
-        &raster_options(scene, opts),
-    );
+    let (stats, shadow_times) =
+        render_plan(scene, fb, &camera, &plan, &raster_options(scene, opts));
     FrameReport {
         plan,
         stats,
         plan_time,
         raster_time: start.elapsed(),
+        shadow_times,
         warnings: unrenderable(&scene.world),
     }
+}
+
+/// A mesh as the rasterizer borrows it.
+fn mesh_view(m: &phosphor_mesh::Mesh) -> MeshView<'_> {
+    MeshView {
+        positions: &m.positions,
+        normals: &m.normals,
+        uvs: m.uvs.as_deref(),
+        tangents: m.tangents.as_deref(),
+        colors: m.colors.as_deref(),
+        indices: &m.indices,
+    }
+}
+
+/// Draws `plan` into `fb`: its shadow maps first, then every object, the receivers of a map
+/// with their shadowing lights apart ([`phosphor_raster::Frame::draw_shadowed`]). Without maps
+/// this is [`phosphor_raster::render`] of [`draw_items`], the same bytes. Returns the
+/// rasterizer's counts and each map's rendering time.
+pub fn render_plan(
+    scene: &Scene,
+    fb: &mut Framebuffer,
+    camera: &Camera,
+    plan: &FramePlan,
+    opts: &RenderOptions,
+) -> (RenderStats, Vec<Duration>) {
+    let items = draw_items(plan);
+    if plan.shadows.maps.is_empty() {
+        return (
+            phosphor_raster::render(fb, camera, &items, opts),
+            Vec::new(),
+        );
+    }
+    let lights = scene.lights();
+    let mut times = Vec::new();
+    let maps: Vec<Option<ShadowMap>> = plan
+        .shadows
+        .maps
+        .iter()
+        .map(|m| {
+            let start = Instant::now();
+            let casters: Vec<Caster> = m
+                .casters
+                .iter()
+                .map(|&c| Caster {
+                    mesh: mesh_view(&plan.casters[c].mesh.mesh),
+                    model: plan.casters[c].model,
+                })
+                .collect();
+            // The plan checked the size and the view; a map that still fails is left out.
+            let map = ShadowMap::render(&m.view, m.size, &casters, opts).ok();
+            times.push(start.elapsed());
+            map
+        })
+        .collect();
+    let alone: Vec<LightSet> = plan
+        .shadows
+        .maps
+        .iter()
+        .map(|m| LightSet::new(Vec3::ZERO, &[lights[m.light].1]))
+        .collect();
+    let mut frame = Frame::new(fb, camera, opts);
+    for (i, (o, d)) in plan.objects.iter().zip(&items).enumerate() {
+        let mine: Vec<usize> = (0..maps.len())
+            .filter(|&k| maps[k].is_some() && plan.shadows.maps[k].receivers.contains(&i))
+            .collect();
+        if mine.is_empty() {
+            frame.draw_item(d);
+            continue;
+        }
+        let shadowed: Vec<ShadowLight> = mine
+            .iter()
+            .filter_map(|&k| {
+                maps[k].as_ref().map(|map| ShadowLight {
+                    set: &alone[k],
+                    map,
+                })
+            })
+            .collect();
+        let rest: Vec<Light> = o
+            .lights
+            .iter()
+            .filter(|&&l| !mine.iter().any(|&k| plan.shadows.maps[k].light == l))
+            .map(|&l| lights[l].1)
+            .collect();
+        let rest = LightSet::new(scene.ambient, &rest);
+        frame.draw_shadowed(d, &rest, &shadowed);
+    }
+    (frame.finish(), times)
 }

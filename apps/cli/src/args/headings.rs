@@ -22,9 +22,8 @@ mod tests {
             | "weighting"
             | "no_smoothing_groups"
             | "split_by_material" => NORMALS_HEADING,
-            "cull" | "aa" | "size" | "threads" | "fast_phong" | "interpolation" | "simd" => {
-                RENDERING_HEADING
-            }
+            "cull" | "aa" | "size" | "threads" | "fast_phong" | "interpolation" | "simd"
+            | "shadows" => RENDERING_HEADING,
             "shading" if subcommand == "bench" => MEASURING_HEADING,
             "shading" => RENDERING_HEADING,
             "output" | "encoding" | "force" | "plan" | "out_dir" | "csv" => OUTPUT_HEADING,

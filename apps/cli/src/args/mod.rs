@@ -142,6 +142,9 @@ pub struct RenderArgs {
     /// The SIMD level.
     #[command(flatten)]
     pub simd: SimdArgs,
+    /// Shadows.
+    #[command(flatten)]
+    pub shadows: ShadowArgs,
     /// Print the frame plan (per object: mode, effects simulated, lights kept) to stdout.
     #[arg(long, help_heading = OUTPUT_HEADING)]
     pub plan: bool,
@@ -267,6 +270,9 @@ pub struct BenchArgs {
     /// The SIMD level.
     #[command(flatten)]
     pub simd: SimdArgs,
+    /// Shadows.
+    #[command(flatten)]
+    pub shadows: ShadowArgs,
     /// Timed frames per mode (after one untimed warm-up frame).
     #[arg(
         long,

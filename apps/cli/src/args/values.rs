@@ -128,6 +128,32 @@ pub enum SimdArg {
     Avx2,
 }
 
+/// `--shadows on|off`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}
+
+/// Shadows of render and bench.
+#[derive(Debug, Args, Clone, Copy, Default)]
+pub struct ShadowArgs {
+    /// Shadow maps for every directional, spot and point light (on) or none (off), overriding
+    /// the scene's `shadows = true` per light (default: as the scene says).
+    #[arg(long, help_heading = RENDERING_HEADING, value_enum, value_name = "on|off")]
+    pub shadows: Option<OnOff>,
+}
+
+impl ShadowArgs {
+    /// The override, if any.
+    #[must_use]
+    pub fn shadows(&self) -> Option<bool> {
+        self.shadows.map(|s| s == OnOff::On)
+    }
+}
+
 /// The SIMD level of render and bench.
 #[derive(Debug, Args, Clone, Copy, Default)]
 pub struct SimdArgs {

@@ -30,6 +30,7 @@ pub fn run(args: &BenchArgs) -> Result<(), CliError> {
             fast_phong: args.variants.fast_phong(),
             interpolation: args.variants.interpolation(),
             simd,
+            shadows: args.shadows.shadows(),
             ..FrameOptions::default()
         };
         render_frame(&scene, &mut fb, &opts); // warm-up: caches, thread pool, tables

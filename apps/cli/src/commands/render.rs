@@ -92,6 +92,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         fast_phong: args.variants.fast_phong(),
         interpolation: args.variants.interpolation(),
         simd,
+        shadows: args.shadows.shadows(),
         ..FrameOptions::default()
     };
     let encoding = match args.encoding {
@@ -152,6 +153,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                     report.plan_time.as_secs_f64() * 1e3,
                     report.raster_time.as_secs_f64() * 1e3
                 );
+                for (m, t) in report.plan.shadows.maps.iter().zip(&report.shadow_times) {
+                    say!(
+                        "shadow map of {}: {:.3} ms (in the raster time)",
+                        report.plan.light_names[m.light],
+                        t.as_secs_f64() * 1e3
+                    );
+                }
                 let aa = report.stats.antialias;
                 say!(
                     "anti-aliasing: {aa}, {} sample{} per pixel",

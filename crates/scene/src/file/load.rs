@@ -20,10 +20,12 @@ use crate::components::{
     Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name,
     PRIMITIVE_BUDGET_BYTES, Primitive, SceneMesh, Shading, ShadingChoice, Transform,
 };
+use crate::components::{CastsShadows, ShadowRole};
 use crate::error::SceneError;
 use crate::hierarchy::{LocalCamera, LocalLight};
 use crate::textures::{ColorMap, MapSource, checkerboard, decode, wrap_of};
 use crate::{CullChoice, RenderSettings, Scene};
+use phosphor_raster::shadow::{MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
 
 /// Reads the files a scene names (meshes, MTL, bump images): the disk, or embedded text.
 pub trait Files {
@@ -122,11 +124,12 @@ pub fn parse_scene(
         let name = l
             .str("name")?
             .map_or_else(|| format!("light {i}"), str::to_owned);
+        let shadows = l.bool("shadows")?.unwrap_or(false);
         let (light, motion) = light(&l)?;
-        lights.push((name, light));
+        lights.push((name, light, shadows));
         motions.push(motion);
     }
-    let mut kinds: Vec<Light> = lights.iter().map(|(_, l)| *l).collect();
+    let mut kinds: Vec<Light> = lights.iter().map(|(_, l, _)| *l).collect();
     let (cuts, asked) = limit_distributed_samples(&mut kinds, MAX_DISTRIBUTED_SAMPLES);
     for cut in &cuts {
         scene.warnings.push(format!(
@@ -134,8 +137,11 @@ pub fn parse_scene(
             cut.index, cut.before, cut.after
         ));
     }
-    for (((name, _), light), motion) in lights.into_iter().zip(kinds).zip(motions) {
+    for (((name, _, shadows), light), motion) in lights.into_iter().zip(kinds).zip(motions) {
         let e = scene.world.spawn((Name(name), light));
+        if shadows {
+            scene.world.insert_one(e, CastsShadows).ok();
+        }
         if motion.posed() {
             scene.world.insert_one(e, LocalLight(light.kind)).ok();
         }
@@ -293,7 +299,19 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
                 r.error("interpolation", e.to_string())
             })?;
     }
+    if let Some(size) = r.u32("shadow_size")? {
+        if size != 0 && !(MIN_SHADOW_SIZE..=MAX_SHADOW_SIZE).contains(&size) {
+            return Err(r.error(
+                "shadow_size",
+                format!(
+                    "must be 0 (derived from the picture) or {MIN_SHADOW_SIZE} to {MAX_SHADOW_SIZE}, got {size}"
+                ),
+            ));
+        }
+        s.shadow_size = size;
+    }
     r.finish(&[
+        "shadow_size",
         "aa",
         "gouraud_clamp",
         "width",
@@ -430,6 +448,7 @@ fn light(l: &Fields<'_>) -> Result<(Light, Motion), SceneError> {
         "specular_intensity",
         "attenuation",
         "enabled",
+        "shadows",
     ];
     known.extend_from_slice(keys);
     known.extend_from_slice(MOTION_KEYS);
@@ -832,9 +851,15 @@ fn object(
         )),
         None => None,
     };
+    let role = ShadowRole {
+        cast: o.bool("cast_shadows")?.unwrap_or(true),
+        receive: o.bool("receive_shadows")?.unwrap_or(true),
+    };
     let transform = transform(o.table("transform")?)?;
     let motion = super::motion::motion(o)?;
     o.finish(&[
+        "cast_shadows",
+        "receive_shadows",
         "name",
         "mesh",
         "primitive",
@@ -858,6 +883,9 @@ fn object(
     ));
     if let Some(s) = shading {
         scene.world.insert_one(entity, s).ok();
+    }
+    if role != ShadowRole::default() {
+        scene.world.insert_one(entity, role).ok();
     }
     if let Some((src, scale)) = &def.bump {
         let key = material_name.to_owned();

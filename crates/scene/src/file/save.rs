@@ -12,6 +12,7 @@ use toml::{Table, Value};
 use crate::components::{
     BumpSource, MaterialDef, MaterialName, MeshRef, MeshSource, Name, Primitive, Shading, Transform,
 };
+use crate::components::{CastsShadows, ShadowRole};
 use crate::error::SceneError;
 use crate::hierarchy::{LocalCamera, LocalLight, LocalTransform};
 use crate::{CullChoice, RenderSettings, Scene};
@@ -68,6 +69,12 @@ fn render_table(r: &RenderSettings) -> Table {
     );
     t.insert("fast_phong".into(), s(r.fast_phong.name()));
     t.insert("interpolation".into(), s(r.interpolation.name()));
+    if r.shadow_size != 0 {
+        t.insert(
+            "shadow_size".into(),
+            Value::Integer(i64::from(r.shadow_size)),
+        );
+    }
     t
 }
 
@@ -311,6 +318,9 @@ pub fn scene_to_toml(scene: &Scene) -> String {
                 l.kind = local.0;
             }
             let mut t = light_table(&name, &l);
+            if scene.world.get::<&CastsShadows>(e).is_ok() {
+                t.insert("shadows".into(), Value::Boolean(true));
+            }
             super::motion::write_motion(scene, e, &mut t);
             Value::Table(t)
         })
@@ -362,6 +372,10 @@ pub fn scene_to_toml(scene: &Scene) -> String {
         t.insert("normalize".into(), Value::Boolean(mesh.0.normalized));
         if let Some(sh) = shading {
             t.insert("shading".into(), s(sh.0.name()));
+        }
+        if let Ok(role) = scene.world.get::<&ShadowRole>(e) {
+            t.insert("cast_shadows".into(), Value::Boolean(role.cast));
+            t.insert("receive_shadows".into(), Value::Boolean(role.receive));
         }
         let n = &mesh.0.normals;
         let mut nt = Table::new();

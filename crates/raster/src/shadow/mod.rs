@@ -1,0 +1,337 @@
+//! Shadow maps (Williams 1978, "Casting curved shadows on curved surfaces"): the depth of the
+//! nearest caster seen from a light, rendered once per frame into a square map, then looked up
+//! per pixel of every receiver: a point farther from the light than the map's depth at its
+//! place is in shadow.
+//!
+//! * **Views** ([`LightView`], [`fit`]): an orthographic box along a directional light, a
+//!   perspective cone from a spot or point light. Each is fitted by bounding spheres to the
+//!   casters and receivers that matter, so the map's texels cover only the region where a
+//!   shadow can fall on something visible. A point light gets one perspective map when its
+//!   casters fit in a cone of at most [`MAX_POINT_HALF_ANGLE_DEG`]; cube maps (six faces) are
+//!   not implemented, so a point light surrounded by casters gets no map.
+//! * **Rendering** ([`ShadowMap::render`]): the casters go through the frame's own stages
+//!   (clipping, the top-left coverage rule, the exact depth of every pixel, bands in parallel)
+//!   with a constant-colour shader, so the map is the same for any thread count; its depths
+//!   are then turned into distances along the light's axis.
+//! * **Lookup** ([`ShadowMap::visibility`]): percentage-closer filtering (Reeves, Salesin and
+//!   Cook 1987) over a 4 x 4-texel footprint with tent weights, which is a 3 x 3 box of
+//!   bilinear 2 x 2 taps: the comparisons are filtered, not the depths, so the result is the
+//!   fraction of the footprint that is lit, in `[0, 1]`, smooth across texels.
+//! * **Bias**: a receiver is compared at its distance less
+//!   `texel * (BIAS_CONSTANT + BIAS_SLOPE * tan(theta))` (theta between the normal and the
+//!   light, `tan` capped at [`MAX_BIAS_SLOPE`]), `texel` the world size of one texel there. Too
+//!   little bias and a lit surface shadows itself in stripes (acne: the map holds the surface's
+//!   own depth, sampled at texel centres, and the footprint reaches up to three texels away where a
+//!   sloped surface is nearer the light); too much and shadows detach from their casters
+//!   (peter-panning). The slope term grows the bias only where the surface is steep to the
+//!   light, and the footprint's reach (under three texels) sets its size.
+//!
+//! Every step is scalar `f32` per pixel (the lane versions run the scalar lookup lane by
+//! lane), so the picture is the same at every SIMD width.
+
+use glam::{Mat4, Vec3};
+use phosphor_lighting::Lanes;
+
+use crate::framebuffer::{FAR_DEPTH, Framebuffer, RasterError};
+use crate::{MeshView, RenderOptions, RenderStats};
+
+pub mod fit;
+pub mod shade;
+
+pub use fit::{LightShape, NoMap, Sphere, can_shadow, fit};
+pub use shade::ShadowLight;
+
+/// Largest map side accepted.
+pub const MAX_SHADOW_SIZE: u32 = 4096;
+/// Smallest map side.
+pub const MIN_SHADOW_SIZE: u32 = 16;
+/// Constant bias, in texels.
+pub const BIAS_CONSTANT: f32 = 1.0;
+/// Slope-scaled bias, in texels per unit of `tan(theta)`: the PCF footprint's reach (its
+/// farthest texel centre is under `2 sqrt 2` texels away).
+pub const BIAS_SLOPE: f32 = 3.0;
+/// Largest `tan(theta)` the bias follows (about 80 degrees from the light).
+pub const MAX_BIAS_SLOPE: f32 = 6.0;
+/// Widest cone a point light's single map may cover, half-angle in degrees.
+pub const MAX_POINT_HALF_ANGLE_DEG: f32 = 60.0;
+
+/// How a light sees its casters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Projection {
+    /// Parallel rays (a directional light): the box `[-half_width, half_width]` across.
+    Orthographic {
+        /// Half the box's side, world units.
+        half_width: f32,
+    },
+    /// A cone from the light's position (spot and point lights).
+    Perspective {
+        /// `tan` of the half-angle.
+        tan_half: f32,
+    },
+}
+
+/// A light's view of the casters: where it looks from, along which axis, how wide and over
+/// which distances.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LightView {
+    /// World to light view (right-handed, looking down -z).
+    pub view: Mat4,
+    /// Orthographic or perspective.
+    pub projection: Projection,
+    /// Nearest distance along the axis (> 0 for perspective).
+    pub near: f32,
+    /// Farthest distance along the axis (> near).
+    pub far: f32,
+    /// Where the light is: its position (perspective), or the unit direction towards it
+    /// (orthographic).
+    pub toward: Vec3,
+}
+
+impl LightView {
+    /// The OpenGL projection of the view.
+    #[must_use]
+    pub fn projection_matrix(&self) -> Mat4 {
+        match self.projection {
+            Projection::Orthographic { half_width: h } => {
+                glam::camera::rh::proj::opengl::orthographic(-h, h, -h, h, self.near, self.far)
+            }
+            Projection::Perspective { tan_half } => glam::camera::rh::proj::opengl::perspective(
+                2.0 * tan_half.atan(),
+                1.0,
+                self.near,
+                self.far,
+            ),
+        }
+    }
+
+    /// Whether every value is finite and the ranges are not empty.
+    #[must_use]
+    pub fn is_valid(&self) -> bool {
+        let shape = match self.projection {
+            Projection::Orthographic { half_width } => half_width.is_finite() && half_width > 0.0,
+            Projection::Perspective { tan_half } => {
+                tan_half.is_finite() && tan_half > 0.0 && self.near > 0.0
+            }
+        };
+        shape
+            && self.view.is_finite()
+            && self.near.is_finite()
+            && self.far.is_finite()
+            && self.far > self.near
+            && self.toward.is_finite()
+    }
+
+    /// The unit direction from `p` towards the light (zero at the light itself).
+    #[must_use]
+    pub fn to_light(&self, p: Vec3) -> Vec3 {
+        match self.projection {
+            Projection::Orthographic { .. } => self.toward,
+            Projection::Perspective { .. } => (self.toward - p).normalize_or_zero(),
+        }
+    }
+}
+
+/// One caster: a mesh placed in the world.
+#[derive(Debug, Clone, Copy)]
+pub struct Caster<'a> {
+    /// The mesh.
+    pub mesh: MeshView<'a>,
+    /// Object to world.
+    pub model: Mat4,
+}
+
+/// A light's depth map: per texel, the distance along the light's axis of the nearest caster
+/// (`f32::MAX` where none).
+#[derive(Debug, Clone)]
+pub struct ShadowMap {
+    light: LightView,
+    size: u32,
+    distance: Vec<f32>,
+    /// World size of a texel: at unit distance for perspective, everywhere for orthographic.
+    texel: f32,
+}
+
+impl ShadowMap {
+    /// Bytes rendering a map of side `size` takes at its peak (the frame's colour and depth,
+    /// then the distances).
+    #[must_use]
+    pub fn bytes_for(size: u32) -> u64 {
+        u64::from(size) * u64::from(size) * 20
+    }
+
+    /// Renders the casters as `light` sees them into a `size` x `size` map, with `opts`'
+    /// threads and SIMD level (the map does not depend on either).
+    ///
+    /// # Errors
+    /// A side outside [`MIN_SHADOW_SIZE`]..=[`MAX_SHADOW_SIZE`], or a view that is not valid.
+    pub fn render(
+        light: &LightView,
+        size: u32,
+        casters: &[Caster],
+        opts: &RenderOptions,
+    ) -> Result<ShadowMap, RasterError> {
+        if !(MIN_SHADOW_SIZE..=MAX_SHADOW_SIZE).contains(&size) {
+            return Err(RasterError::BadSize {
+                width: size,
+                height: size,
+                what: "shadow map side outside 16..=4096",
+            });
+        }
+        if !light.is_valid() {
+            return Err(RasterError::BadSize {
+                width: size,
+                height: size,
+                what: "shadow view not finite",
+            });
+        }
+        let mut fb = Framebuffer::new(size, size)?;
+        let vp = light.projection_matrix() * light.view;
+        let opts = RenderOptions {
+            perspective_correct: true,
+            cull_backfaces: false,
+            antialias: crate::Antialias::Off,
+            ..*opts
+        };
+        let mut stats = RenderStats::default();
+        for c in casters {
+            crate::render::run_depth(&mut fb, vp, &c.mesh, c.model, &opts, &mut stats);
+        }
+        let (n, f) = (light.near, light.far);
+        let perspective = matches!(light.projection, Projection::Perspective { .. });
+        let distance = fb
+            .depth
+            .iter()
+            .map(|&d| {
+                if d >= FAR_DEPTH || d.is_nan() {
+                    return f32::MAX;
+                }
+                let z = 2.0 * d - 1.0;
+                let dist = if perspective {
+                    // Inverse of the OpenGL perspective depth.
+                    2.0 * n * f / ((f + n) - z * (f - n))
+                } else {
+                    n + d * (f - n)
+                };
+                if dist.is_finite() { dist } else { f32::MAX }
+            })
+            .collect();
+        let texel = match light.projection {
+            Projection::Orthographic { half_width } => 2.0 * half_width / size as f32,
+            Projection::Perspective { tan_half } => 2.0 * tan_half / size as f32,
+        };
+        Ok(ShadowMap {
+            light: *light,
+            size,
+            distance,
+            texel,
+        })
+    }
+
+    /// The map's side in texels.
+    #[must_use]
+    pub fn size(&self) -> u32 {
+        self.size
+    }
+
+    /// The view it was rendered with.
+    #[must_use]
+    pub fn light(&self) -> &LightView {
+        &self.light
+    }
+
+    /// The stored distance at texel `(x, y)` (row 0 at the top), `f32::MAX` where no caster is.
+    #[must_use]
+    pub fn distance_at(&self, x: u32, y: u32) -> f32 {
+        self.distance[(y * self.size + x) as usize]
+    }
+
+    /// How much of the light reaches world point `p` with surface normal `n` (not necessarily
+    /// unit): 1 fully lit, 0 in shadow, the PCF fraction
+    /// between. Points outside the map, behind a perspective light or with a non-finite
+    /// position are lit.
+    #[must_use]
+    pub fn visibility(&self, p: Vec3, n: Vec3) -> f32 {
+        let v = self.light.view.transform_point3(p);
+        let dist = -v.z;
+        let (sx, sy, texel) = match self.light.projection {
+            Projection::Orthographic { half_width } => {
+                (v.x / half_width, v.y / half_width, self.texel)
+            }
+            Projection::Perspective { tan_half } => {
+                if dist.is_nan() || dist <= 0.0 {
+                    return 1.0;
+                }
+                let k = dist * tan_half;
+                (v.x / k, v.y / k, self.texel * dist)
+            }
+        };
+        if !(sx.is_finite() && sy.is_finite() && dist.is_finite()) {
+            return 1.0;
+        }
+        // tan(theta) from the normal: sqrt(1 - c^2) / c, capped.
+        let len2 = n.length_squared();
+        let c = if len2 > 0.0 && len2.is_finite() {
+            n.dot(self.light.to_light(p)) / len2.sqrt()
+        } else {
+            1.0
+        };
+        let slope = if c > 0.0 {
+            ((1.0 - c * c).max(0.0).sqrt() / c).min(MAX_BIAS_SLOPE)
+        } else {
+            MAX_BIAS_SLOPE
+        };
+        let compare = dist - texel * (BIAS_CONSTANT + BIAS_SLOPE * slope);
+        let size = self.size as f32;
+        // Texel coordinates with centres at integers (the rasterizer's pixel centres).
+        let fx = (sx + 1.0) * 0.5 * size - 0.5;
+        let fy = (1.0 - sy) * 0.5 * size - 0.5;
+        if !(fx > -3.0 && fy > -3.0 && fx < size + 2.0 && fy < size + 2.0) {
+            return 1.0;
+        }
+        let (x0, y0) = (fx.floor(), fy.floor());
+        let (tx, ty) = (fx - x0, fy - y0);
+        // A 3 x 3 box of bilinear taps at offsets -1, 0, 1: tent weights over texels
+        // x0 - 1 ..= x0 + 2.
+        let wx = [(1.0 - tx), 1.0, 1.0, tx];
+        let wy = [(1.0 - ty), 1.0, 1.0, ty];
+        let (x0, y0) = (x0 as i64 - 1, y0 as i64 - 1);
+        let mut lit = 0.0;
+        for j in 0..4 {
+            let y = y0 + j as i64;
+            let mut row = 0.0;
+            for i in 0..4 {
+                let x = x0 + i as i64;
+                let inside = x >= 0 && y >= 0 && x < self.size as i64 && y < self.size as i64;
+                let seen = !inside
+                    || compare
+                        <= self.distance[(y as u64 * u64::from(self.size) + x as u64) as usize];
+                if seen {
+                    row += wx[i];
+                }
+            }
+            lit += row * wy[j];
+        }
+        (lit / 9.0).clamp(0.0, 1.0)
+    }
+
+    /// [`ShadowMap::visibility`] per lane (the scalar lookup lane by lane: the same bits at
+    /// every width).
+    #[inline(always)]
+    #[must_use]
+    pub fn visibility_lanes<L: Lanes>(
+        &self,
+        p: phosphor_lighting::Vec3s<L>,
+        n: phosphor_lighting::Vec3s<L>,
+    ) -> L {
+        let like = p.x;
+        let (p, n) = (p.to_vecs(), n.to_vecs());
+        let out: [f32; 8] = std::array::from_fn(|i| {
+            if i < L::N {
+                self.visibility(p[i], n[i])
+            } else {
+                1.0
+            }
+        });
+        like.with_lanes(out)
+    }
+}

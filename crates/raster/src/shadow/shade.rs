@@ -1,0 +1,116 @@
+//! Shading a receiver of shadow maps: the lights with maps are shaded one by one and their
+//! diffuse and specular light scaled by the map's visibility at the pixel; ambient, emission
+//! and the other lights are untouched.
+//!
+//! A receiver is drawn per pixel whatever its mode: a shadow's edge crosses triangles, and
+//! `flat` or `gouraud` would smear it over them (one visibility per triangle or per vertex).
+//! `fast-phong`'s quadratics do not follow a shadow either, and `reference` shades in `f32`
+//! here, with the map, rather than tracing shadow rays. A texture scales the ambient and
+//! diffuse light as in the tinted modes; a mesh with vertex colours is drawn without its
+//! shadows (no varyings are left for them beside the texture's mip level).
+
+use phosphor_lighting::{Effects, Lanes, LightSet, Material, Vec3s, shade_terms_lanes};
+
+use super::ShadowMap;
+use crate::bump::BumpMap;
+use crate::shader::{Shader, Varyings, VertexLanes, uv_derivatives, vec3_at};
+use crate::shaders::Lit;
+use crate::texture::Texture;
+
+/// One light with a map, as a receiver sees it.
+#[derive(Debug, Clone, Copy)]
+pub struct ShadowLight<'a> {
+    /// The light alone (ambient zero).
+    pub set: &'a LightSet,
+    /// Its map.
+    pub map: &'a ShadowMap,
+}
+
+/// Per-pixel shading with shadows for effect set `FX`, with or without bump mapping.
+/// Varyings: world position 0..3, normal 3..6, uv 6..8, with `BUMP` the tangent 8..12 (and
+/// then the texture's finest level, as the tinted Phong mode does).
+#[derive(Debug, Clone, Copy)]
+pub struct Shadowed<'a, const FX: u32, const BUMP: bool> {
+    /// The lights without maps, the material, the viewer.
+    pub lit: Lit<'a>,
+    /// The material for the lights with maps: ambient and emission zeroed (counted once, in
+    /// `lit`).
+    pub direct: Material,
+    /// The lights with maps.
+    pub shadowed: &'a [ShadowLight<'a>],
+    /// The colour map, if any.
+    pub texture: Option<&'a Texture>,
+    /// The height field (used only when `BUMP`).
+    pub bump: Option<&'a BumpMap>,
+}
+
+impl<const FX: u32, const BUMP: bool> Shader for Shadowed<'_, FX, BUMP> {
+    const VARYINGS: usize = if BUMP { 12 } else { 8 };
+    const GRADIENTS: Option<usize> = if BUMP { None } else { Some(6) };
+    type Stepped = ();
+    #[inline(always)]
+    fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L> {
+        crate::shaders::phong::surface_varyings(v, true)
+    }
+    #[inline(always)]
+    fn pixel<L: Lanes>(&self, v: &Varyings<L>) -> Vec3s<L> {
+        let (p, geometric) = (vec3_at(v, 0), vec3_at(v, 3));
+        let mut n = geometric;
+        if let (true, Some(map)) = (BUMP, self.bump) {
+            n = crate::shaders::phong::perturbed(map, n, v);
+        }
+        let lit = &self.lit;
+        let mut terms = shade_terms_lanes::<FX, L>(lit.set, &lit.mat, p, n, lit.eye);
+        for s in self.shadowed {
+            let t = shade_terms_lanes::<FX, L>(s.set, &self.direct, p, n, lit.eye);
+            // The geometric normal sets the bias: the map holds the surface, not its bumps.
+            let seen = s.map.visibility_lanes(p, geometric);
+            terms.diffuse = terms.diffuse + t.diffuse * seen;
+            terms.specular = terms.specular + t.specular * seen;
+        }
+        match self.texture {
+            Some(texture) => {
+                let like = v[0];
+                let d = if BUMP {
+                    [like.splat(0.0); 4]
+                } else {
+                    uv_derivatives::<Self, L>(v)
+                };
+                terms.modulated(texture.sample_lanes(v[6], v[7], d))
+            }
+            None => terms.total(),
+        }
+    }
+}
+
+/// Draws `d` with its lights `shadowed` (each with a map) shadowed: `rest` holds the draw's
+/// other lights and its ambient, `d.lights` all of them (used when the draw cannot take
+/// shadows: vertex colours, or no light has a map).
+pub(crate) fn draw(
+    frame: &mut crate::Frame,
+    d: &crate::DrawItem,
+    rest: &LightSet,
+    shadowed: &[ShadowLight],
+) {
+    if shadowed.is_empty() || d.mesh.colors.is_some() {
+        return frame.draw_item(d);
+    }
+    let n = d.mesh.positions.len();
+    let has_frame =
+        d.mesh.uvs.is_some_and(|u| u.len() == n) && d.mesh.tangents.is_some_and(|t| t.len() == n);
+    let bump = d
+        .bump
+        .filter(|_| has_frame && d.effects.contains(Effects::BUMP));
+    let lit = Lit::new(rest, d.material, d.effects, frame.eye());
+    let mut direct = lit.mat;
+    direct.ka = glam::Vec3::ZERO;
+    direct.emission = glam::Vec3::ZERO;
+    let texture = d.texture;
+    let (mesh, model, cull) = (&d.mesh, d.model, d.cull_backfaces);
+    match bump {
+        Some(map) => crate::with_fx!(d.effects, FX => frame.draw(mesh, model,
+            &Shadowed::<FX, true> { lit, direct, shadowed, texture, bump: Some(map) }, cull)),
+        None => crate::with_fx!(d.effects, FX => frame.draw(mesh, model,
+            &Shadowed::<FX, false> { lit, direct, shadowed, texture, bump: None }, cull)),
+    }
+}

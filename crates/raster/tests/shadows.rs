@@ -1,0 +1,321 @@
+//! Shadow maps: the umbra of a sphere over a plane against its closed form, spot and point
+//! lights casting where they should, no acne at grazing light, no leak at contact, and the
+//! same picture for any thread count and SIMD width.
+#![allow(clippy::unwrap_used)]
+
+use std::f32::consts::PI;
+
+use glam::{Mat4, Vec3};
+use phosphor_lighting::{Effects, Light, LightSet, Material};
+use phosphor_mesh::Mesh;
+use phosphor_raster::shadow::{Caster, LightShape, NoMap, ShadowLight, ShadowMap, Sphere, fit};
+use phosphor_raster::{
+    Camera, DrawItem, Frame, Framebuffer, MeshView, RenderOptions, ShadingMode, SimdLevel,
+};
+
+fn view(m: &Mesh) -> MeshView<'_> {
+    MeshView {
+        positions: &m.positions,
+        normals: &m.normals,
+        uvs: None,
+        tangents: None,
+        colors: None,
+        indices: &m.indices,
+    }
+}
+
+/// A map of `casters` (mesh, model, bounds) for `light`, over the receiver `receiver`.
+fn map_of(
+    light: &LightShape,
+    casters: &[(&Mesh, Mat4, Sphere)],
+    receiver: Sphere,
+    size: u32,
+) -> ShadowMap {
+    let spheres: Vec<Sphere> = casters.iter().map(|c| c.2).collect();
+    let v = fit(light, &spheres, &[receiver]).unwrap();
+    let list: Vec<Caster> = casters
+        .iter()
+        .map(|(m, model, _)| Caster {
+            mesh: view(m),
+            model: *model,
+        })
+        .collect();
+    ShadowMap::render(&v, size, &list, &RenderOptions::default()).unwrap()
+}
+
+/// Sphere of radius `R` centred `H` above the plane y = 0, light straight down.
+const R: f32 = 0.5;
+const H: f32 = 1.0;
+
+/// The area of the plane's points in shadow (visibility below 1/2), counted on a grid of
+/// step `step` over `[-1, 1]^2`.
+fn umbra_area(map: &ShadowMap, step: f32) -> f32 {
+    let n = (2.0 / step) as i32;
+    let mut count = 0;
+    for j in 0..n {
+        for i in 0..n {
+            let p = Vec3::new(
+                -1.0 + (i as f32 + 0.5) * step,
+                0.0,
+                -1.0 + (j as f32 + 0.5) * step,
+            );
+            if map.visibility(p, Vec3::Y) < 0.5 {
+                count += 1;
+            }
+        }
+    }
+    count as f32 * step * step
+}
+
+#[test]
+fn sphere_umbra_matches_closed_form_and_tightens_with_size() {
+    let sphere = phosphor_mesh::primitives::uv_sphere(R, 96, 48);
+    let model = Mat4::from_translation(Vec3::new(0.0, H, 0.0));
+    let light = LightShape::Directional {
+        direction: -Vec3::Y,
+    };
+    let caster = Sphere {
+        center: Vec3::new(0.0, H, 0.0),
+        radius: R,
+    };
+    let floor = Sphere {
+        center: Vec3::ZERO,
+        radius: 2.0,
+    };
+    // Under light straight down the umbra is the sphere's silhouette: the disc of radius R,
+    // here the tessellation's equator, a regular 96-gon inscribed in it.
+    let exact = 0.5 * 96.0 * R * R * (2.0 * PI / 96.0).sin();
+    let mut errors = Vec::new();
+    for size in [16u32, 64, 256] {
+        let map = map_of(&light, &[(&sphere, model, caster)], floor, size);
+        let texel = 2.0 * 1.01 * R / size as f32;
+        let area = umbra_area(&map, 0.002);
+        let err = (area - exact).abs();
+        // Stated tolerance: the disc's perimeter times half a texel (the PCF threshold at 1/2
+        // puts the edge within half a texel of the silhouette), plus the counting grid's own
+        // error (its step times the perimeter).
+        let tolerance = 2.0 * PI * R * (0.5 * texel + 0.002);
+        assert!(
+            err <= tolerance,
+            "size {size}: umbra {area} against {exact}, error {err} over {tolerance}"
+        );
+        errors.push(err);
+    }
+    assert!(errors[2] < errors[0], "error does not shrink: {errors:?}");
+}
+
+#[test]
+fn spot_and_point_lights_cast_below_their_caster() {
+    let cube = phosphor_mesh::primitives::cube(0.25);
+    let model = Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0));
+    let bounds = Sphere {
+        center: Vec3::new(0.0, 1.0, 0.0),
+        radius: 0.25 * 3f32.sqrt(),
+    };
+    let floor = Sphere {
+        center: Vec3::ZERO,
+        radius: 3.0,
+    };
+    let lights = [
+        LightShape::Spot {
+            position: Vec3::new(0.0, 3.0, 0.0),
+            direction: -Vec3::Y,
+            outer_deg: 40.0,
+        },
+        LightShape::Point {
+            position: Vec3::new(1.0, 3.0, 0.0),
+        },
+    ];
+    for light in lights {
+        let map = map_of(&light, &[(&cube, model, bounds)], floor, 256);
+        let from = match light {
+            LightShape::Spot { position, .. } | LightShape::Point { position } => position,
+            LightShape::Directional { .. } => unreachable!(),
+        };
+        // The ray from the light through the cube's centre meets the floor here.
+        let t = from.y / (from.y - 1.0);
+        let below = from + (Vec3::new(0.0, 1.0, 0.0) - from) * t;
+        assert_eq!(map.visibility(below, Vec3::Y), 0.0, "{light:?} at {below}");
+        // Well outside the cube's shadow: lit.
+        for p in [Vec3::new(-1.5, 0.0, 0.0), Vec3::new(0.0, 0.0, 1.2)] {
+            assert_eq!(map.visibility(p, Vec3::Y), 1.0, "{light:?} at {p}");
+        }
+        // The top of the cube faces the light and is lit.
+        let top = Vec3::new(0.0, 1.25, 0.0);
+        assert_eq!(map.visibility(top, Vec3::Y), 1.0, "{light:?} cube top");
+    }
+}
+
+#[test]
+fn point_light_surrounded_by_casters_gets_no_map() {
+    let around: Vec<Sphere> = [Vec3::X, -Vec3::X, Vec3::Z, -Vec3::Z]
+        .iter()
+        .map(|&c| Sphere {
+            center: c * 2.0,
+            radius: 0.5,
+        })
+        .collect();
+    let light = LightShape::Point {
+        position: Vec3::ZERO,
+    };
+    assert_eq!(fit(&light, &around, &around).unwrap_err(), NoMap::TooWide);
+}
+
+#[test]
+fn no_acne_on_a_sphere_at_grazing_light() {
+    let sphere = phosphor_mesh::primitives::uv_sphere(1.0, 64, 32);
+    // Light almost along the surface over most of the lit half.
+    let direction = Vec3::new(1.0, -0.15, 0.2).normalize();
+    let light = LightShape::Directional { direction };
+    let s = Sphere {
+        center: Vec3::ZERO,
+        radius: 1.0,
+    };
+    for size in [128u32, 512] {
+        let map = map_of(&light, &[(&sphere, Mat4::IDENTITY, s)], s, size);
+        let mut checked = 0;
+        for t in &sphere.indices {
+            let [a, b, c] = t.map(|i| sphere.positions[i as usize]);
+            let n = (b - a).cross(c - a).normalize_or_zero();
+            let cos = n.dot(-direction);
+            // Every facet facing the light, down to 10 degrees above its horizon.
+            if cos > 0.18 {
+                let centroid = (a + b + c) / 3.0;
+                let v = map.visibility(centroid, n);
+                assert_eq!(v, 1.0, "size {size}: facet at {centroid}, cos {cos}: {v}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 1000, "{checked}");
+    }
+}
+
+#[test]
+fn no_light_leaks_where_the_shadow_meets_its_caster() {
+    let cube = phosphor_mesh::primitives::cube(0.5);
+    let model = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0));
+    let bounds = Sphere {
+        center: Vec3::new(0.0, 0.5, 0.0),
+        radius: 0.5 * 3f32.sqrt(),
+    };
+    let floor = Sphere {
+        center: Vec3::ZERO,
+        radius: 3.0,
+    };
+    // Light at 45 degrees towards +x: the shadow lies on +x from x = 0.5 to 1.5.
+    let light = LightShape::Directional {
+        direction: Vec3::new(1.0, -1.0, 0.0),
+    };
+    let map = map_of(&light, &[(&cube, model, bounds)], floor, 512);
+    for x in [0.51f32, 0.55, 0.8, 1.2, 1.45] {
+        for z in [-0.4f32, 0.0, 0.4] {
+            let v = map.visibility(Vec3::new(x, 0.0, z), Vec3::Y);
+            assert_eq!(v, 0.0, "leak at x {x}, z {z}: {v}");
+        }
+    }
+    for x in [1.6f32, 2.0, -0.6] {
+        assert_eq!(
+            map.visibility(Vec3::new(x, 0.0, 0.0), Vec3::Y),
+            1.0,
+            "x {x}"
+        );
+    }
+}
+
+/// A sphere over a floor under one directional light with a map, drawn at `opts`.
+fn frame_bytes(opts: &RenderOptions, mode: ShadingMode) -> Vec<u8> {
+    let sphere = phosphor_mesh::primitives::uv_sphere(0.5, 48, 24);
+    let floor = phosphor_mesh::primitives::plane(2.0, 4);
+    let up = Mat4::from_translation(Vec3::new(0.0, 0.2, 0.0));
+    let down = Mat4::from_translation(Vec3::new(0.0, -0.6, 0.0));
+    let direction = Vec3::new(0.4, -1.0, -0.3);
+    let sun = Light::directional(direction, Vec3::ONE).unwrap();
+    let ambient = Vec3::splat(0.2);
+    let all = LightSet::new(ambient, &[sun]);
+    let rest = LightSet::new(ambient, &[]);
+    let alone = LightSet::new(Vec3::ZERO, &[sun]);
+    let light = LightShape::Directional { direction };
+    let caster = Sphere {
+        center: Vec3::new(0.0, 0.2, 0.0),
+        radius: 0.5,
+    };
+    let ground = Sphere {
+        center: Vec3::new(0.0, -0.6, 0.0),
+        radius: 2.9,
+    };
+    let v = fit(&light, &[caster], &[ground, caster]).unwrap();
+    let casters = [Caster {
+        mesh: view(&sphere),
+        model: up,
+    }];
+    let map = ShadowMap::render(&v, 512, &casters, opts).unwrap();
+    let shadowed = [ShadowLight {
+        set: &alone,
+        map: &map,
+    }];
+    let material = Material::s1();
+    fn item<'a>(
+        m: &'a Mesh,
+        model: Mat4,
+        material: &'a Material,
+        lights: &'a LightSet,
+        mode: ShadingMode,
+    ) -> DrawItem<'a> {
+        DrawItem {
+            mesh: view(m),
+            model,
+            material,
+            lights,
+            effects: Effects::ALL,
+            mode,
+            bump: None,
+            texture: None,
+            cull_backfaces: false,
+        }
+    }
+    let camera = Camera {
+        eye: Vec3::new(0.0, 1.5, 3.0),
+        target: Vec3::new(0.0, -0.3, 0.0),
+        ..Camera::s1()
+    };
+    let mut fb = Framebuffer::new(160, 120).unwrap();
+    let mut frame = Frame::new(&mut fb, &camera, opts);
+    let floor_item = item(&floor, down, &material, &all, mode);
+    let sphere_item = item(&sphere, up, &material, &all, mode);
+    frame.draw_shadowed(&floor_item, &rest, &shadowed);
+    frame.draw_shadowed(&sphere_item, &rest, &shadowed);
+    frame.finish();
+    fb.to_rgb8(phosphor_raster::Encoding::Linear)
+}
+
+#[test]
+fn shadowed_frame_is_the_same_for_any_threads_and_width() {
+    for mode in [ShadingMode::Phong, ShadingMode::Gouraud] {
+        let base = frame_bytes(
+            &RenderOptions {
+                threads: 1,
+                simd: SimdLevel::Baseline,
+                ..RenderOptions::default()
+            },
+            mode,
+        );
+        for (threads, simd) in [
+            (4, SimdLevel::Baseline),
+            (3, SimdLevel::Auto),
+            (1, SimdLevel::Avx2),
+        ] {
+            let other = frame_bytes(
+                &RenderOptions {
+                    threads,
+                    simd,
+                    ..RenderOptions::default()
+                },
+                mode,
+            );
+            assert!(base == other, "{mode}: {threads} threads, {simd:?}");
+        }
+        // The shadow is there: the floor below the sphere, along the light, is dark.
+        let lit: Vec<u32> = base.chunks(3).map(|c| u32::from(c[0])).collect();
+        assert!(lit.iter().any(|&c| c < 60) && lit.iter().any(|&c| c > 150));
+    }
+}

@@ -1,0 +1,301 @@
+//! The shadow part of the frame plan: which lights get a map this frame, over which casters and
+//! receivers, at what size, and why the others get none.
+//!
+//! A light's map is made only when some caster can stand between it and a visible receiver
+//! that the light reaches, judged by bounding spheres
+//! ([`phosphor_raster::shadow::can_shadow`]). An object counts as its own caster unless it
+//! cannot shadow itself: a sphere, a cube or a cylinder primitive (convex, so the lighting's
+//! `N.L <= 0` already darkens what faces away) or a flat mesh. So a single convex object over
+//! nothing gets no map, and neither does a light behind every receiver. The map's view is
+//! fitted to the casters and receivers that passed ([`phosphor_raster::shadow::fit`]).
+//!
+//! Size: the scene's `shadow_size`, or by default the next power of two above the largest
+//! receiver's diameter on screen (capped by the picture's larger side), within
+//! [`MIN_AUTO_SIZE`]..=[`MAX_AUTO_SIZE`]. The maps of a frame together stay within
+//! [`MAX_SHADOW_BYTES`]: a map that would pass it is halved until it fits, before anything is
+//! allocated.
+
+use std::sync::Arc;
+
+use glam::Mat4;
+use phosphor_lighting::{Light, LightKind};
+use phosphor_raster::shadow::{LightShape, LightView, ShadowMap, Sphere, can_shadow, fit};
+use phosphor_raster::{Camera, Projection};
+
+use crate::Scene;
+use crate::components::{
+    CastsShadows, MeshRef, MeshSource, Name, Primitive, SceneMesh, ShadowRole, Transform,
+};
+use crate::plan::{FrameOptions, PlannedObject};
+
+/// Smallest side the footprint rule picks.
+pub const MIN_AUTO_SIZE: u32 = 256;
+/// Largest side the footprint rule picks.
+pub const MAX_AUTO_SIZE: u32 = 1024;
+/// Most bytes the shadow maps of one frame may take while they are made.
+pub const MAX_SHADOW_BYTES: u64 = 256 << 20;
+
+/// One object that can cast, visible or not.
+#[derive(Debug, Clone)]
+pub struct ShadowCaster {
+    /// Its name.
+    pub name: String,
+    /// Object to world.
+    pub model: Mat4,
+    /// The mesh.
+    pub mesh: Arc<SceneMesh>,
+    /// World bounding sphere.
+    pub bounds: Sphere,
+    /// Whether it can shadow itself.
+    pub concave: bool,
+}
+
+/// A map the frame makes.
+#[derive(Debug, Clone)]
+pub struct PlannedShadow {
+    /// The light (index into [`crate::plan::FramePlan::light_names`]).
+    pub light: usize,
+    /// The light's view, fitted.
+    pub view: LightView,
+    /// Side in texels.
+    pub size: u32,
+    /// Indices into [`crate::plan::FramePlan::casters`] of the casters drawn into it.
+    pub casters: Vec<usize>,
+    /// Indices into [`crate::plan::FramePlan::objects`] of the receivers that look it up.
+    pub receivers: Vec<usize>,
+    /// How the size was chosen.
+    pub size_reason: String,
+}
+
+/// The shape of `light` for a map, or why it has none.
+fn shape(light: &Light) -> Result<LightShape, &'static str> {
+    match light.kind {
+        LightKind::Directional { direction } => Ok(LightShape::Directional { direction }),
+        LightKind::Spot {
+            position,
+            direction,
+            outer_deg,
+            ..
+        } => Ok(LightShape::Spot {
+            position,
+            direction,
+            outer_deg,
+        }),
+        LightKind::Point { position } => Ok(LightShape::Point { position }),
+        LightKind::Tube { .. } | LightKind::Rect { .. } => {
+            Err("area lights cast no shadow map (not implemented)")
+        }
+    }
+}
+
+/// Whether a mesh can shadow itself.
+fn concave(mesh: &SceneMesh) -> bool {
+    let convex = matches!(
+        mesh.source,
+        MeshSource::Primitive(
+            Primitive::Sphere { .. } | Primitive::Cube { .. } | Primitive::Cylinder { .. }
+        )
+    );
+    let flat = mesh.info.normal_cone.is_some_and(|(_, half)| half < 1e-4);
+    !(convex || flat)
+}
+
+/// Every object that casts (in scene order), visible or not.
+#[must_use]
+pub fn casters(scene: &Scene) -> Vec<ShadowCaster> {
+    let mut out: Vec<(u32, ShadowCaster)> = scene
+        .world
+        .query::<(
+            hecs::Entity,
+            &Name,
+            &Transform,
+            &MeshRef,
+            Option<&ShadowRole>,
+        )>()
+        .iter()
+        .filter(|(_, _, _, _, role)| role.is_none_or(|r| r.cast))
+        .filter_map(|(e, n, t, m, _)| {
+            let model = t.matrix();
+            let bounds = Sphere {
+                center: model.transform_point3(m.0.info.center),
+                radius: m.0.info.radius * t.max_scale(),
+            };
+            (bounds.center.is_finite() && bounds.radius.is_finite()).then(|| {
+                (
+                    e.id(),
+                    ShadowCaster {
+                        name: n.0.clone(),
+                        model,
+                        mesh: m.0.clone(),
+                        bounds,
+                        concave: concave(&m.0),
+                    },
+                )
+            })
+        })
+        .collect();
+    out.sort_by_key(|(id, _)| *id);
+    out.into_iter().map(|(_, c)| c).collect()
+}
+
+/// The diameter in pixels of `s` on screen (an estimate from its distance).
+fn screen_diameter(s: &Sphere, camera: &Camera, height: u32) -> f32 {
+    let world_height = match camera.projection {
+        Projection::Perspective => {
+            let d = (s.center - camera.eye).length().max(s.radius).max(1e-6);
+            2.0 * d * (camera.fov_y_deg.to_radians() * 0.5).tan()
+        }
+        Projection::Orthographic { height } => height,
+    };
+    2.0 * s.radius / world_height * height as f32
+}
+
+/// The side the footprint rule picks for receivers `receivers`.
+fn auto_size(receivers: &[Sphere], camera: &Camera, viewport: (u32, u32)) -> u32 {
+    let largest = receivers
+        .iter()
+        .map(|s| screen_diameter(s, camera, viewport.1))
+        .fold(0.0f32, f32::max)
+        .min(viewport.0.max(viewport.1) as f32);
+    let side = if largest.is_finite() && largest > 1.0 {
+        (largest.ceil() as u32).next_power_of_two()
+    } else {
+        MIN_AUTO_SIZE
+    };
+    side.clamp(MIN_AUTO_SIZE, MAX_AUTO_SIZE)
+}
+
+/// The objects' world bounding spheres, as the plan measured them.
+fn bounds_of(o: &PlannedObject) -> Sphere {
+    let scale = o
+        .model
+        .to_scale_rotation_translation()
+        .0
+        .abs()
+        .max_element();
+    Sphere {
+        center: o.model.transform_point3(o.mesh.info.center),
+        radius: o.mesh.info.radius * scale,
+    }
+}
+
+/// The maps of a frame: those made, and one line per shadowing light that gets none.
+#[derive(Debug, Clone, Default)]
+pub struct ShadowPlan {
+    /// The maps made.
+    pub maps: Vec<PlannedShadow>,
+    /// `(light, why not)` for the lights with shadows on that get no map.
+    pub skipped: Vec<(usize, String)>,
+}
+
+/// Plans the maps of a frame: `objects` are the visible objects planned, `casters` every
+/// caster ([`casters`]), `lights` the scene's lights.
+#[must_use]
+pub fn plan_shadows(
+    scene: &Scene,
+    objects: &[PlannedObject],
+    casters: &[ShadowCaster],
+    (camera, viewport): (&Camera, (u32, u32)),
+    opts: &FrameOptions,
+) -> ShadowPlan {
+    let mut plan = ShadowPlan::default();
+    if opts.shadows == Some(false) {
+        return plan;
+    }
+    let mut bytes = 0u64;
+    for (li, e) in scene.light_entities().into_iter().enumerate() {
+        let Ok(light) = scene.world.get::<&Light>(e).map(|l| *l) else {
+            continue;
+        };
+        let wanted = opts.shadows == Some(true) || scene.world.get::<&CastsShadows>(e).is_ok();
+        if !wanted {
+            continue;
+        }
+        let mut skip = |why: &str| plan.skipped.push((li, why.to_owned()));
+        if !light.enabled {
+            skip("the light is off");
+            continue;
+        }
+        let shape = match shape(&light) {
+            Ok(s) => s,
+            Err(why) => {
+                skip(why);
+                continue;
+            }
+        };
+        let receivers: Vec<usize> = objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| o.receives_shadows && o.lights.contains(&li))
+            .map(|(i, _)| i)
+            .collect();
+        if receivers.is_empty() {
+            skip("it reaches no visible receiver");
+            continue;
+        }
+        let mut used_casters = Vec::new();
+        let mut used_receivers = Vec::new();
+        for (ci, c) in casters.iter().enumerate() {
+            for &ri in &receivers {
+                let r = &objects[ri];
+                let same = c.name == r.name && c.model == r.model;
+                if same && !c.concave {
+                    continue;
+                }
+                if can_shadow(&shape, &c.bounds, &bounds_of(r)) {
+                    if !used_casters.contains(&ci) {
+                        used_casters.push(ci);
+                    }
+                    if !used_receivers.contains(&ri) {
+                        used_receivers.push(ri);
+                    }
+                }
+            }
+        }
+        used_receivers.sort_unstable();
+        let caster_spheres: Vec<Sphere> = used_casters.iter().map(|&c| casters[c].bounds).collect();
+        let receiver_spheres: Vec<Sphere> = used_receivers
+            .iter()
+            .map(|&r| bounds_of(&objects[r]))
+            .collect();
+        let view = match fit(&shape, &caster_spheres, &receiver_spheres) {
+            Ok(v) => v,
+            Err(why) => {
+                skip(&why.to_string());
+                continue;
+            }
+        };
+        let (mut size, mut size_reason) = if scene.settings.shadow_size != 0 {
+            (
+                scene.settings.shadow_size,
+                "the scene's shadow_size".to_owned(),
+            )
+        } else {
+            (
+                auto_size(&receiver_spheres, camera, viewport),
+                "from the receivers' footprint on screen".to_owned(),
+            )
+        };
+        while bytes + ShadowMap::bytes_for(size) > MAX_SHADOW_BYTES && size > MIN_AUTO_SIZE / 4 {
+            size /= 2;
+            size_reason = format!(
+                "halved to fit the frame's {} MB of maps",
+                MAX_SHADOW_BYTES >> 20
+            );
+        }
+        if bytes + ShadowMap::bytes_for(size) > MAX_SHADOW_BYTES {
+            skip("the frame's maps already take their memory budget");
+            continue;
+        }
+        bytes += ShadowMap::bytes_for(size);
+        plan.maps.push(PlannedShadow {
+            light: li,
+            view,
+            size,
+            casters: used_casters,
+            receivers: used_receivers,
+            size_reason,
+        });
+    }
+    plan
+}

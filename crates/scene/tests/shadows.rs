@@ -1,0 +1,204 @@
+//! Shadows in the frame plan: a map only where a caster can darken a visible receiver, the
+//! same bytes as shadows off when none is made, the fields saved and loaded, the default
+//! scene's contact shadows, and the same picture for any thread count.
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::Path;
+
+use phosphor_raster::{Encoding, Framebuffer};
+use phosphor_scene::{
+    Disk, FrameOptions, Scene, parse_scene, plan::plan_frame, render_frame, scene_to_toml,
+};
+
+/// A scene of `objects` (TOML `[[objects]]` blocks) under one light `light` (a `[[lights]]`
+/// block's body) with shadows on.
+fn scene(light: &str, objects: &str) -> Scene {
+    let text = format!(
+        r#"
+[render]
+width = 160
+height = 120
+encoding = "linear"
+[camera]
+eye = [0.0, 3.0, 6.0]
+target = [0.0, 0.0, 0.0]
+[ambient]
+intensity = [0.2, 0.2, 0.2]
+[[lights]]
+name = "sun"
+shadows = true
+intensity = [1.0, 1.0, 1.0]
+{light}
+[materials.m]
+kd = [0.8, 0.8, 0.8]
+ks = [0.3, 0.3, 0.3]
+shininess = 20
+{objects}
+"#
+    );
+    parse_scene(&text, "test.toml", Path::new("."), &Disk).unwrap()
+}
+
+const DOWN: &str = r#"type = "directional"
+direction = [0.2, -1.0, 0.1]"#;
+
+const BALL: &str = r#"
+[[objects]]
+name = "ball"
+primitive = { shape = "sphere", radius = 0.6, segments = 32, rings = 16 }
+material = "m"
+transform = { translate = [0.0, 0.4, 0.0] }"#;
+
+const FLOOR: &str = r#"
+[[objects]]
+name = "floor"
+primitive = { shape = "plane", half_size = 3.0, subdivisions = 4 }
+material = "m"
+transform = { translate = [0.0, -0.5, 0.0] }"#;
+
+fn bytes(scene: &Scene, shadows: Option<bool>, threads: usize) -> Vec<u8> {
+    let mut fb = Framebuffer::new(160, 120).unwrap();
+    let opts = FrameOptions {
+        threads,
+        shadows,
+        ..FrameOptions::default()
+    };
+    render_frame(scene, &mut fb, &opts);
+    fb.to_rgb8(Encoding::Linear)
+}
+
+fn plan_text(scene: &Scene, shadows: Option<bool>) -> (usize, String) {
+    let opts = FrameOptions {
+        shadows,
+        ..FrameOptions::default()
+    };
+    let plan = plan_frame(scene, &scene.camera(), (160, 120), &opts);
+    (plan.shadows.maps.len(), plan.to_string())
+}
+
+#[test]
+fn a_convex_object_over_nothing_gets_no_map_and_the_same_bytes() {
+    let s = scene(DOWN, BALL);
+    let (maps, text) = plan_text(&s, None);
+    assert_eq!(maps, 0, "{text}");
+    assert!(
+        text.contains("no shadow map for sun: no caster can stand between"),
+        "{text}"
+    );
+    assert!(bytes(&s, None, 2) == bytes(&s, Some(false), 2));
+}
+
+#[test]
+fn a_light_behind_every_receiver_gets_no_map() {
+    // A shelf over a floor, both facing up, lit from below: the light is behind both.
+    let shelf = r#"
+[[objects]]
+name = "shelf"
+primitive = { shape = "plane", half_size = 0.5 }
+material = "m"
+transform = { translate = [0.0, 1.0, 0.0] }"#;
+    let up = r#"type = "directional"
+direction = [0.1, 1.0, 0.0]"#;
+    let s = scene(up, &format!("{shelf}{FLOOR}"));
+    let (maps, text) = plan_text(&s, None);
+    assert_eq!(maps, 0, "{text}");
+    assert!(
+        text.contains("no shadow map for sun: it reaches no visible receiver"),
+        "{text}"
+    );
+    assert!(bytes(&s, None, 2) == bytes(&s, Some(false), 2));
+    // Lit from above, the shelf casts on the floor.
+    let s = scene(DOWN, &format!("{shelf}{FLOOR}"));
+    let (maps, text) = plan_text(&s, None);
+    assert_eq!(maps, 1, "{text}");
+}
+
+#[test]
+fn a_ball_over_a_floor_casts_and_the_flag_overrides() {
+    let s = scene(DOWN, &format!("{BALL}{FLOOR}"));
+    let (maps, text) = plan_text(&s, None);
+    assert_eq!(maps, 1, "{text}");
+    assert!(text.contains("shadow map of sun: "), "{text}");
+    // Bounding spheres are conservative: the floor's may reach above the ball along a
+    // slanted light, so it may be listed as a caster too; the ball always is.
+    assert!(text.contains("casters: ball"), "{text}");
+    assert_eq!(plan_text(&s, Some(false)).0, 0);
+    let on = bytes(&s, None, 1);
+    let off = bytes(&s, Some(false), 1);
+    assert!(on != off);
+    // The shadow only darkens: no channel of any pixel is brighter with it.
+    assert!(on.iter().zip(&off).all(|(a, b)| a <= b));
+    // The floor point straight below the ball along the light is darker than with no shadow.
+    let darker = on.iter().zip(&off).filter(|(a, b)| a < b).count();
+    assert!(darker > 300, "{darker} channels darkened");
+    // The same picture for any thread count.
+    for threads in [2, 3, 4] {
+        assert!(bytes(&s, None, threads) == on, "{threads} threads");
+    }
+}
+
+#[test]
+fn receive_and_cast_flags_turn_the_map_off() {
+    // The floor casts nothing here, so the ball is the one caster.
+    let floor = FLOOR.replace("material = \"m\"", "material = \"m\"\ncast_shadows = false");
+    let s = scene(DOWN, &format!("{BALL}{floor}"));
+    let (maps, text) = plan_text(&s, None);
+    assert_eq!(maps, 1, "{text}");
+    assert!(text.contains("casters: ball; receivers: floor"), "{text}");
+    let not_receiving = floor.replace(
+        "cast_shadows = false",
+        "cast_shadows = false\nreceive_shadows = false",
+    );
+    let s = scene(DOWN, &format!("{BALL}{not_receiving}"));
+    assert_eq!(plan_text(&s, None).0, 0);
+    let ball_off = BALL.replace("material = \"m\"", "material = \"m\"\ncast_shadows = false");
+    let s = scene(DOWN, &format!("{ball_off}{floor}"));
+    let (maps, text) = plan_text(&s, None);
+    assert_eq!(maps, 0, "{text}");
+    assert!(bytes(&s, None, 2) == bytes(&s, Some(false), 2));
+}
+
+#[test]
+fn shadow_fields_survive_save_and_load() {
+    let floor_off = FLOOR.replace(
+        "material = \"m\"",
+        "material = \"m\"\nreceive_shadows = false",
+    );
+    let mut s = scene(DOWN, &format!("{BALL}{floor_off}"));
+    s.settings.shadow_size = 512;
+    let text = scene_to_toml(&s);
+    assert!(text.contains("shadows = true"), "{text}");
+    assert!(text.contains("receive_shadows = false"), "{text}");
+    assert!(text.contains("shadow_size = 512"), "{text}");
+    let back = parse_scene(&text, "saved.toml", Path::new("."), &Disk).unwrap();
+    assert_eq!(scene_to_toml(&back), text);
+}
+
+#[test]
+fn bad_shadow_values_are_errors_naming_the_field() {
+    let bad = |text: &str| {
+        parse_scene(text, "bad.toml", Path::new("."), &Disk)
+            .unwrap_err()
+            .to_string()
+    };
+    let e = bad("[render]\nshadow_size = 5\n");
+    assert!(e.contains("shadow_size"), "{e}");
+    let e = bad(
+        "[[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = [1, 1, 1]\nshadows = 3\n",
+    );
+    assert!(e.contains("shadows"), "{e}");
+    let e = bad(&format!("{BALL}\ncast_shadows = \"yes\"\n")
+        .replace("[[objects]]", "[materials.m]\nkd = [1, 1, 1]\n[[objects]]"));
+    assert!(e.contains("cast_shadows"), "{e}");
+}
+
+#[test]
+fn the_default_scene_makes_its_key_lights_map() {
+    let s = Scene::default_scene().unwrap();
+    let plan = plan_frame(&s, &s.camera(), (320, 180), &FrameOptions::default());
+    assert_eq!(plan.shadows.maps.len(), 1, "{plan}");
+    let text = plan.to_string();
+    assert!(text.contains("shadow map of key: "), "{text}");
+    assert!(text.contains("perspective view"), "{text}");
+}
