@@ -7,7 +7,7 @@
 //! cannot shadow itself: a sphere, a cube or a cylinder primitive (convex, so the lighting's
 //! `N.L <= 0` already darkens what faces away) or a flat mesh. So a single convex object over
 //! nothing gets no map, and neither does a light behind every receiver. The map's view is
-//! fitted to the casters and receivers that passed ([`phosphor_raster::shadow::fit`]).
+//! fitted to the casters and receivers that passed ([`phosphor_raster::shadow::fit()`]).
 //!
 //! Size: the scene's `shadow_size`, or by default the next power of two above the largest
 //! receiver's diameter on screen (capped by the picture's larger side), within

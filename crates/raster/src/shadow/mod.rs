@@ -3,7 +3,7 @@
 //! per pixel of every receiver: a point farther from the light than the map's depth at its
 //! place is in shadow.
 //!
-//! * **Views** ([`LightView`], [`fit`]): an orthographic box along a directional light, a
+//! * **Views** ([`LightView`], [`fit()`]): an orthographic box along a directional light, a
 //!   perspective cone from a spot or point light. Each is fitted by bounding spheres to the
 //!   casters and receivers that matter, so the map's texels cover only the region where a
 //!   shadow can fall on something visible. A point light gets one perspective map when its
