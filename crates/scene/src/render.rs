@@ -77,26 +77,16 @@ pub fn unrenderable(world: &hecs::World) -> Vec<String> {
 pub fn draw_items(plan: &FramePlan) -> Vec<DrawItem<'_>> {
     plan.objects
         .iter()
-        .map(|o| {
-            let m = &o.mesh.mesh;
-            DrawItem {
-                mesh: MeshView {
-                    positions: &m.positions,
-                    normals: &m.normals,
-                    uvs: m.uvs.as_deref(),
-                    tangents: m.tangents.as_deref(),
-                    colors: m.colors.as_deref(),
-                    indices: &m.indices,
-                },
-                model: o.model,
-                material: &o.material,
-                lights: &plan.light_sets[o.light_set],
-                effects: o.effects,
-                mode: o.mode,
-                bump: o.bump.as_deref(),
-                texture: o.texture.as_deref(),
-                cull_backfaces: o.cull_backfaces,
-            }
+        .map(|o| DrawItem {
+            mesh: mesh_view(&o.mesh.mesh),
+            model: o.model,
+            material: &o.material,
+            lights: &plan.light_sets[o.light_set],
+            effects: o.effects,
+            mode: o.mode,
+            bump: o.bump.as_deref(),
+            texture: o.texture.as_deref(),
+            cull_backfaces: o.cull_backfaces,
         })
         .collect()
 }
