@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Phosphor against Mesa's llvmpipe on the standard scene S1: for each round, mesh and mode,
 # times `phosphor bench` and llvmpipe (run.sh) one after the other, alternating which goes
-# first, then prints the median over the rounds of each side's median frame time and the ratio
+# first (Phosphor draws a copy of assets/scenes/s1.toml naming the mesh, so both draw S1's
+# camera, lights, material and normals; `--mesh` alone would frame a three-quarter view), then prints the median over the rounds of each side's median frame time and the ratio
 # phosphor / llvmpipe (under 1: Phosphor is faster). See README.md beside this file.
 set -euo pipefail
 
@@ -88,7 +89,21 @@ if [ -z "$log" ]; then
 fi
 : >"$log"
 info=$(mktemp)
-trap 'rm -f "$info"; [ "$keep_log" = 1 ] || rm -f "$log"' EXIT
+scenes=$(mktemp -d)
+trap 'rm -f "$info"; rm -rf "$scenes"; [ "$keep_log" = 1 ] || rm -f "$log"' EXIT
+
+# S1 around each mesh: the bundled S1 scene with its `mesh` line naming the file (absolute).
+s1_scene() { # MESH -> prints the scene's path
+  local abs scene
+  abs=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+  scene="$scenes/$(printf '%s' "$abs" | cksum | cut -d' ' -f1).toml"
+  if [ ! -f "$scene" ]; then
+    grep -q '^mesh = ' "$repo/assets/scenes/s1.toml" || fail "assets/scenes/s1.toml: no mesh line"
+    awk -v m="$abs" '/^mesh = /{ gsub(/\\/, "\\\\", m); gsub(/"/, "\\\"", m); print "mesh = \"" m "\""; next } { print }' \
+      "$repo/assets/scenes/s1.toml" >"$scene"
+  fi
+  printf '%s\n' "$scene"
+}
 
 load1() { cut -d' ' -f1 /proc/loadavg; }
 
@@ -111,7 +126,7 @@ run_llvmpipe() { # ROUND MESH
 run_phosphor() { # ROUND MESH
   for mode in $modes; do
     phosphor_mode "$mode" || continue
-    "$phosphor" bench --mesh "$2" --shading "$mode" --size "$size" --threads "$threads" \
+    "$phosphor" bench "$(s1_scene "$2")" --shading "$mode" --size "$size" --threads "$threads" \
       --frames "$frames" "${phosphor_cull[@]}" | sed 's/$/ renderer=phosphor/' | record "$1" "$2"
   done
 }
