@@ -319,3 +319,147 @@ fn shadowed_frame_is_the_same_for_any_threads_and_width() {
         assert!(lit.iter().any(|&c| c < 60) && lit.iter().any(|&c| c > 150));
     }
 }
+
+/// The PCF lookup as its definition reads, one point at a time with every texel's position
+/// tested: the oracle for the lane lookup (which reads a padded map instead).
+fn visibility_by_definition(map: &ShadowMap, p: Vec3, n: Vec3) -> f32 {
+    use phosphor_raster::shadow::{BIAS_CONSTANT, BIAS_SLOPE, MAX_BIAS_SLOPE, Projection};
+    let light = map.light();
+    let size = map.size();
+    let v = light.view.transform_point3(p);
+    let dist = -v.z;
+    let (sx, sy, texel) = match light.projection {
+        Projection::Orthographic { half_width } => (
+            v.x / half_width,
+            v.y / half_width,
+            2.0 * half_width / size as f32,
+        ),
+        Projection::Perspective { tan_half } => {
+            if dist.is_nan() || dist <= 0.0 {
+                return 1.0;
+            }
+            let k = dist * tan_half;
+            (v.x / k, v.y / k, 2.0 * tan_half / size as f32 * dist)
+        }
+    };
+    if !(sx.is_finite() && sy.is_finite() && dist.is_finite()) {
+        return 1.0;
+    }
+    let len2 = n.length_squared();
+    let c = if len2 > 0.0 && len2.is_finite() {
+        n.dot(light.to_light(p)) / len2.sqrt()
+    } else {
+        1.0
+    };
+    let slope = if c > 0.0 {
+        ((1.0 - c * c).max(0.0).sqrt() / c).min(MAX_BIAS_SLOPE)
+    } else {
+        MAX_BIAS_SLOPE
+    };
+    let compare = dist - texel * (BIAS_CONSTANT + BIAS_SLOPE * slope);
+    let s = size as f32;
+    let fx = (sx + 1.0) * 0.5 * s - 0.5;
+    let fy = (1.0 - sy) * 0.5 * s - 0.5;
+    if !(fx > -3.0 && fy > -3.0 && fx < s + 2.0 && fy < s + 2.0) {
+        return 1.0;
+    }
+    let (x0, y0) = (fx.floor(), fy.floor());
+    let (tx, ty) = (fx - x0, fy - y0);
+    let wx = [(1.0 - tx), 1.0, 1.0, tx];
+    let wy = [(1.0 - ty), 1.0, 1.0, ty];
+    let mut lit = 0.0;
+    for (j, wy) in wy.iter().enumerate() {
+        let y = y0 as i64 - 1 + j as i64;
+        let mut row = 0.0;
+        for (i, wx) in wx.iter().enumerate() {
+            let x = x0 as i64 - 1 + i as i64;
+            let inside = x >= 0 && y >= 0 && x < i64::from(size) && y < i64::from(size);
+            if !inside || compare <= map.distance_at(x as u32, y as u32) {
+                row += wx;
+            }
+        }
+        lit += row * wy;
+    }
+    (lit / 9.0).clamp(0.0, 1.0)
+}
+
+#[test]
+fn lane_lookup_is_the_definition_bit_for_bit() {
+    use phosphor_lighting::{Vec3s, f32x4};
+    let cube = phosphor_mesh::primitives::cube(0.25);
+    let model = Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0));
+    let bounds = Sphere {
+        center: Vec3::new(0.0, 1.0, 0.0),
+        radius: 0.25 * 3f32.sqrt(),
+    };
+    let floor = Sphere {
+        center: Vec3::ZERO,
+        radius: 3.0,
+    };
+    let lights = [
+        LightShape::Directional {
+            direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        },
+        LightShape::Spot {
+            position: Vec3::new(0.0, 3.0, 0.0),
+            direction: -Vec3::Y,
+            outer_deg: 40.0,
+        },
+        LightShape::Point {
+            position: Vec3::new(1.0, 3.0, 0.0),
+        },
+    ];
+    // Normals: up, grazing, facing away, zero, NaN, huge.
+    let normals = [
+        Vec3::Y,
+        Vec3::new(1.0, 0.02, 0.0),
+        -Vec3::Y,
+        Vec3::ZERO,
+        Vec3::NAN,
+        Vec3::splat(1e30),
+    ];
+    for light in lights {
+        let map = map_of(&light, &[(&cube, model, bounds)], floor, 64);
+        let mut points = Vec::new();
+        // A grid over and past the floor (the map's edges and outside it), at several
+        // heights (the cube's faces, above the light), and points that are not finite.
+        for j in -40..=40 {
+            for i in -40..=40 {
+                for h in [0.0, 0.75, 1.0, 1.25, 4.0] {
+                    points.push(Vec3::new(i as f32 * 0.1, h, j as f32 * 0.1));
+                }
+            }
+        }
+        points.extend([Vec3::NAN, Vec3::INFINITY, Vec3::new(0.0, 3.0, 0.0)]);
+        let mut shaded = 0;
+        for (k, &p) in points.iter().enumerate() {
+            let n = normals[k % normals.len()];
+            let want = visibility_by_definition(&map, p, n);
+            let got = map.visibility(p, n);
+            assert_eq!(got.to_bits(), want.to_bits(), "{light:?} at {p} normal {n}");
+            shaded += usize::from(want > 0.0 && want < 1.0);
+        }
+        assert!(shaded > 20, "{light:?}: only {shaded} penumbra points");
+        // Four different points per vector: each lane is its own one-lane lookup.
+        for (k, quad) in points.chunks_exact(4).enumerate() {
+            let ns: [Vec3; 4] = std::array::from_fn(|i| normals[(k + i) % normals.len()]);
+            let lanes =
+                |f: fn(Vec3) -> f32, v: &[Vec3]| f32x4::from([f(v[0]), f(v[1]), f(v[2]), f(v[3])]);
+            let p = Vec3s::new(
+                lanes(|v| v.x, quad),
+                lanes(|v| v.y, quad),
+                lanes(|v| v.z, quad),
+            );
+            let n = Vec3s::new(
+                lanes(|v| v.x, &ns),
+                lanes(|v| v.y, &ns),
+                lanes(|v| v.z, &ns),
+            );
+            let got = map.visibility_lanes(p, n).to_array();
+            for i in 0..4 {
+                let want = map.visibility(quad[i], ns[i]);
+                assert_eq!(got[i].to_bits(), want.to_bits(), "lane {i} at {}", quad[i]);
+            }
+        }
+    }
+}

@@ -26,16 +26,16 @@
 //!   (peter-panning). The slope term grows the bias only where the surface is steep to the
 //!   light, and the footprint's reach (under three texels) sets its size.
 //!
-//! Every step is scalar `f32` per pixel (the lane versions run the scalar lookup lane by
-//! lane), so the picture is the same at every SIMD width.
+//! The lookup is written once over lanes (`lookup.rs`): every step is the `f32` step lane by
+//! lane, so the picture is the same at every SIMD width.
 
 use glam::{Mat4, Vec3};
-use phosphor_lighting::Lanes;
 
 use crate::framebuffer::{FAR_DEPTH, Framebuffer, RasterError};
 use crate::{MeshView, RenderOptions, RenderStats};
 
 pub mod fit;
+mod lookup;
 pub mod shade;
 
 pub use fit::{LightShape, NoMap, Sphere, can_shadow, fit};
@@ -146,17 +146,21 @@ pub struct Caster<'a> {
 pub struct ShadowMap {
     light: LightView,
     size: u32,
+    /// Row after row, `stride` texels each: [`lookup::PAD`] texels of `f32::MAX` on every
+    /// side of the `size` x `size` distances.
     distance: Vec<f32>,
+    stride: usize,
     /// World size of a texel: at unit distance for perspective, everywhere for orthographic.
     texel: f32,
 }
 
 impl ShadowMap {
     /// Bytes rendering a map of side `size` takes at its peak (the frame's colour and depth,
-    /// then the distances).
+    /// then the padded distances).
     #[must_use]
     pub fn bytes_for(size: u32) -> u64 {
-        u64::from(size) * u64::from(size) * 20
+        let padded = u64::from(size) + 2 * lookup::PAD as u64;
+        u64::from(size) * u64::from(size) * 16 + padded * padded * 4
     }
 
     /// Renders the casters as `light` sees them into a `size` x `size` map, with `opts`'
@@ -198,23 +202,31 @@ impl ShadowMap {
         }
         let (n, f) = (light.near, light.far);
         let perspective = matches!(light.projection, Projection::Perspective { .. });
-        let distance = fb
-            .depth
-            .iter()
-            .map(|&d| {
-                if d >= FAR_DEPTH || d.is_nan() {
-                    return f32::MAX;
-                }
-                let z = 2.0 * d - 1.0;
-                let dist = if perspective {
-                    // Inverse of the OpenGL perspective depth.
-                    2.0 * n * f / ((f + n) - z * (f - n))
-                } else {
-                    n + d * (f - n)
-                };
-                if dist.is_finite() { dist } else { f32::MAX }
-            })
-            .collect();
+        // Depth to distance along the axis; no caster (or a value that overflows) is
+        // `f32::MAX`. Written without branches per texel so that it runs in vectors.
+        let to_distance = |d: f32| {
+            let z = 2.0 * d - 1.0;
+            let dist = if perspective {
+                // Inverse of the OpenGL perspective depth.
+                2.0 * n * f / ((f + n) - z * (f - n))
+            } else {
+                n + d * (f - n)
+            };
+            if d < FAR_DEPTH && dist.is_finite() {
+                dist
+            } else {
+                f32::MAX
+            }
+        };
+        let side = size as usize;
+        let stride = side + 2 * lookup::PAD;
+        let mut distance = vec![f32::MAX; stride * stride];
+        for (y, src) in fb.depth.chunks_exact(side).enumerate() {
+            let start = (y + lookup::PAD) * stride + lookup::PAD;
+            for (out, &d) in distance[start..start + side].iter_mut().zip(src) {
+                *out = to_distance(d);
+            }
+        }
         let texel = match light.projection {
             Projection::Orthographic { half_width } => 2.0 * half_width / size as f32,
             Projection::Perspective { tan_half } => 2.0 * tan_half / size as f32,
@@ -223,6 +235,7 @@ impl ShadowMap {
             light: *light,
             size,
             distance,
+            stride,
             texel,
         })
     }
@@ -242,96 +255,7 @@ impl ShadowMap {
     /// The stored distance at texel `(x, y)` (row 0 at the top), `f32::MAX` where no caster is.
     #[must_use]
     pub fn distance_at(&self, x: u32, y: u32) -> f32 {
-        self.distance[(y * self.size + x) as usize]
-    }
-
-    /// How much of the light reaches world point `p` with surface normal `n` (not necessarily
-    /// unit): 1 fully lit, 0 in shadow, the PCF fraction
-    /// between. Points outside the map, behind a perspective light or with a non-finite
-    /// position are lit.
-    #[must_use]
-    pub fn visibility(&self, p: Vec3, n: Vec3) -> f32 {
-        let v = self.light.view.transform_point3(p);
-        let dist = -v.z;
-        let (sx, sy, texel) = match self.light.projection {
-            Projection::Orthographic { half_width } => {
-                (v.x / half_width, v.y / half_width, self.texel)
-            }
-            Projection::Perspective { tan_half } => {
-                if dist.is_nan() || dist <= 0.0 {
-                    return 1.0;
-                }
-                let k = dist * tan_half;
-                (v.x / k, v.y / k, self.texel * dist)
-            }
-        };
-        if !(sx.is_finite() && sy.is_finite() && dist.is_finite()) {
-            return 1.0;
-        }
-        // tan(theta) from the normal: sqrt(1 - c^2) / c, capped.
-        let len2 = n.length_squared();
-        let c = if len2 > 0.0 && len2.is_finite() {
-            n.dot(self.light.to_light(p)) / len2.sqrt()
-        } else {
-            1.0
-        };
-        let slope = if c > 0.0 {
-            ((1.0 - c * c).max(0.0).sqrt() / c).min(MAX_BIAS_SLOPE)
-        } else {
-            MAX_BIAS_SLOPE
-        };
-        let compare = dist - texel * (BIAS_CONSTANT + BIAS_SLOPE * slope);
-        let size = self.size as f32;
-        // Texel coordinates with centres at integers (the rasterizer's pixel centres).
-        let fx = (sx + 1.0) * 0.5 * size - 0.5;
-        let fy = (1.0 - sy) * 0.5 * size - 0.5;
-        if !(fx > -3.0 && fy > -3.0 && fx < size + 2.0 && fy < size + 2.0) {
-            return 1.0;
-        }
-        let (x0, y0) = (fx.floor(), fy.floor());
-        let (tx, ty) = (fx - x0, fy - y0);
-        // A 3 x 3 box of bilinear taps at offsets -1, 0, 1: tent weights over texels
-        // x0 - 1 ..= x0 + 2.
-        let wx = [(1.0 - tx), 1.0, 1.0, tx];
-        let wy = [(1.0 - ty), 1.0, 1.0, ty];
-        let (x0, y0) = (x0 as i64 - 1, y0 as i64 - 1);
-        let mut lit = 0.0;
-        for j in 0..4 {
-            let y = y0 + j as i64;
-            let mut row = 0.0;
-            for i in 0..4 {
-                let x = x0 + i as i64;
-                let inside = x >= 0 && y >= 0 && x < self.size as i64 && y < self.size as i64;
-                let seen = !inside
-                    || compare
-                        <= self.distance[(y as u64 * u64::from(self.size) + x as u64) as usize];
-                if seen {
-                    row += wx[i];
-                }
-            }
-            lit += row * wy[j];
-        }
-        (lit / 9.0).clamp(0.0, 1.0)
-    }
-
-    /// [`ShadowMap::visibility`] per lane (the scalar lookup lane by lane: the same bits at
-    /// every width).
-    #[inline(always)]
-    #[must_use]
-    pub fn visibility_lanes<L: Lanes>(
-        &self,
-        p: phosphor_lighting::Vec3s<L>,
-        n: phosphor_lighting::Vec3s<L>,
-    ) -> L {
-        let like = p.x;
-        let (p, n) = (p.to_vecs(), n.to_vecs());
-        let out: [f32; 8] = std::array::from_fn(|i| {
-            if i < L::N {
-                self.visibility(p[i], n[i])
-            } else {
-                1.0
-            }
-        });
-        like.with_lanes(out)
+        let (x, y) = (x as usize + lookup::PAD, y as usize + lookup::PAD);
+        self.distance[y * self.stride + x]
     }
 }
