@@ -140,6 +140,25 @@ pub struct Caster<'a> {
     pub model: Mat4,
 }
 
+/// Largest map side whose buffers are kept for the next map (see [`SPARE`]).
+const MAX_SPARE_SIZE: u32 = 2048;
+/// Distance arrays kept per thread (a frame's maps are alive together: one per light).
+const MAX_SPARE_DISTANCES: usize = 4;
+
+/// Buffers of the maps last rendered on this thread, for the next ones: a map is rendered
+/// every frame, and a fresh buffer of its size costs the system's page faults and zeroing
+/// (megabytes per map) each time. The frame is given back as soon as the map is read out,
+/// the distances when the map is dropped; maps over [`MAX_SPARE_SIZE`] keep nothing.
+#[derive(Default)]
+struct Spare {
+    frame: Option<Framebuffer>,
+    distances: Vec<Vec<f32>>,
+}
+
+thread_local! {
+    static SPARE: std::cell::RefCell<Spare> = std::cell::RefCell::default();
+}
+
 /// A light's depth map: per texel, the distance along the light's axis of the nearest caster
 /// (`f32::MAX` where none).
 #[derive(Debug, Clone)]
@@ -152,6 +171,21 @@ pub struct ShadowMap {
     stride: usize,
     /// World size of a texel: at unit distance for perspective, everywhere for orthographic.
     texel: f32,
+}
+
+impl Drop for ShadowMap {
+    fn drop(&mut self) {
+        if self.size <= MAX_SPARE_SIZE {
+            let distance = std::mem::take(&mut self.distance);
+            // `try_with`: a map dropped while its thread ends keeps nothing.
+            let _ = SPARE.try_with(|s| {
+                let list = &mut s.borrow_mut().distances;
+                if list.len() < MAX_SPARE_DISTANCES {
+                    list.push(distance);
+                }
+            });
+        }
+    }
 }
 
 impl ShadowMap {
@@ -188,7 +222,15 @@ impl ShadowMap {
                 what: "shadow view not finite",
             });
         }
-        let mut fb = Framebuffer::new(size, size)?;
+        let spare = SPARE.with(|s| s.borrow_mut().frame.take());
+        let mut fb = match spare {
+            // The last map's frame: only the pixels it wrote are cleared again.
+            Some(mut fb) if fb.width() == size => {
+                fb.clear(glam::Vec3::ZERO);
+                fb
+            }
+            _ => Framebuffer::new(size, size)?,
+        };
         let vp = light.projection_matrix() * light.view;
         let opts = RenderOptions {
             perspective_correct: true,
@@ -220,12 +262,22 @@ impl ShadowMap {
         };
         let side = size as usize;
         let stride = side + 2 * lookup::PAD;
-        let mut distance = vec![f32::MAX; stride * stride];
+        // A spare of the same size has its padding already (only the inside is written).
+        let mut distance = SPARE
+            .with(|s| {
+                let list = &mut s.borrow_mut().distances;
+                let at = list.iter().position(|d| d.len() == stride * stride);
+                at.map(|i| list.swap_remove(i))
+            })
+            .unwrap_or_else(|| vec![f32::MAX; stride * stride]);
         for (y, src) in fb.depth.chunks_exact(side).enumerate() {
             let start = (y + lookup::PAD) * stride + lookup::PAD;
             for (out, &d) in distance[start..start + side].iter_mut().zip(src) {
                 *out = to_distance(d);
             }
+        }
+        if fb.width() <= MAX_SPARE_SIZE {
+            SPARE.with(|s| s.borrow_mut().frame = Some(fb));
         }
         let texel = match light.projection {
             Projection::Orthographic { half_width } => 2.0 * half_width / size as f32,
