@@ -207,6 +207,19 @@ fn frozen_lights<const FX: u32>(lit: &Lit, p: Vec3, n: Vec3) -> Vec<FrozenLight>
     out
 }
 
+/// The plane `N(x, y) = A x + B y + C` through the vertex normals `n` at screen points `xy`,
+/// with `(x, y)` measured from the triangle's centroid (so `C` is the mean of the normals),
+/// `area` the parallelogram's signed area (non-zero): Bishop and Weimer's `N = Ax + By + C`.
+fn normal_plane(xy: [DVec2; 3], n: [DVec3; 3], area: f64) -> [DVec3; 3] {
+    let (d1, d2) = (xy[1] - xy[0], xy[2] - xy[0]);
+    let (e1, e2) = (n[1] - n[0], n[2] - n[0]);
+    [
+        (e1 * d2.y - e2 * d1.y) / area,
+        (e2 * d1.x - e1 * d2.x) / area,
+        (n[0] + n[1] + n[2]) / 3.0,
+    ]
+}
+
 /// Builds the Taylor quadratics of the screen triangle `v` (attributes: world position 0..3,
 /// normal 3..6, divided by `w` when `perspective`), or `None` when it must fall back to
 /// `phong` (see the module docs). `exact` gives the model's terms at screen barycentrics and
@@ -228,11 +241,7 @@ pub(crate) fn build<const FX: u32>(
         let a = &v.varyings;
         DVec3::new(a[3], a[4], a[5]) * if perspective { v.rhw } else { 1.0 }
     });
-    let (d1, d2) = (xy[1] - xy[0], xy[2] - xy[0]);
-    let (e1, e2) = (nv[1] - nv[0], nv[2] - nv[0]);
-    let a_vec = (e1 * d2.y - e2 * d1.y) / area;
-    let b_vec = (e2 * d1.x - e1 * d2.x) / area;
-    let c_vec = (nv[0] + nv[1] + nv[2]) / 3.0;
+    let [a_vec, b_vec, c_vec] = normal_plane(xy, nv, area);
     let denominator = [
         a_vec.dot(a_vec),
         2.0 * a_vec.dot(b_vec),
@@ -421,6 +430,35 @@ mod tests {
             }
         }
         assert!(worst <= 1e-5, "forward differences drift {worst}");
+    }
+
+    #[test]
+    fn normal_plane_passes_through_the_three_vertex_normals() {
+        // A long, thin, clockwise triangle far from the origin, normals in every direction.
+        let xy = [
+            DVec2::new(1500.25, 20.5),
+            DVec2::new(1.75, 31.0),
+            DVec2::new(1499.0, 23.125),
+        ];
+        let n = [
+            DVec3::new(0.0, 0.0, 1.0),
+            DVec3::new(0.6, -0.8, 0.0),
+            DVec3::new(-0.3, 0.1, 2.5),
+        ];
+        let area = (xy[1] - xy[0]).perp_dot(xy[2] - xy[0]);
+        let centroid = (xy[0] + xy[1] + xy[2]) / 3.0;
+        let [a, b, c] = normal_plane(xy, n, area);
+        let at = |p: DVec2| a * (p.x - centroid.x) + b * (p.y - centroid.y) + c;
+        for k in 0..3 {
+            let miss = (at(xy[k]) - n[k]).abs().max_element();
+            assert!(miss < 1e-12, "vertex {k}: {} against {}", at(xy[k]), n[k]);
+        }
+        // Affine: the midpoint of an edge has the mean of its normals, and a point outside
+        // the triangle continues the plane.
+        let mid = at((xy[0] + xy[1]) / 2.0) - (n[0] + n[1]) / 2.0;
+        assert!(mid.abs().max_element() < 1e-12, "edge midpoint {mid}");
+        let beyond = at(xy[2] * 2.0 - xy[0]) - (n[2] * 2.0 - n[0]);
+        assert!(beyond.abs().max_element() < 1e-9, "extrapolated {beyond}");
     }
 
     #[test]
