@@ -69,6 +69,8 @@ impl Viewer {
                     Some(false) => Some(true),
                     Some(true) => None,
                 };
+                // Shown at once; whether moving frames keep up is measured anew.
+                self.shadows_keep_up = true;
                 true
             }
             Action::ToggleMaps => {

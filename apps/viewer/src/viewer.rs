@@ -24,9 +24,10 @@ use crate::window::View;
 /// pixels presented.
 const WINDOW_BYTES_PER_PIXEL: u64 = 16 + 4;
 
-/// Frames drawn while the user moves use the still picture's anti-aliasing only if it takes
-/// at most this long (60 frames a second); otherwise they are drawn with one sample per pixel
-/// and the still picture follows when input stops.
+/// Frames drawn while the user moves use the still picture's anti-aliasing (and its shadow
+/// maps) only if a frame with them takes at most this long (60 frames a second); otherwise
+/// they are drawn with one sample per pixel (and no shadows) and the still picture follows
+/// when input stops.
 pub const MOVING_FRAME_MS: f64 = 1000.0 / 60.0;
 
 /// The still picture's anti-aliasing when neither `--aa` nor the scene file sets one.
@@ -82,6 +83,11 @@ pub struct Viewer {
     pub fixed_frames: bool,
     /// The anti-aliasing the last frame was drawn with.
     pub last_antialias: Antialias,
+    /// Whether frames drawn while the user moves may draw shadow maps: the last frame that
+    /// drew some took at most [`MOVING_FRAME_MS`] (true until one did not).
+    pub shadows_keep_up: bool,
+    /// The last frame left out the shadows the still picture draws.
+    pub shadows_dropped: bool,
     pub fast_phong: FastPhongMethod,
     pub interpolation: Interpolation,
     pub fb: Option<Framebuffer>,
@@ -144,6 +150,8 @@ impl Viewer {
             refine_next: false,
             fixed_frames: false,
             last_antialias: Antialias::Off,
+            shadows_keep_up: true,
+            shadows_dropped: false,
             fast_phong: scene.settings.fast_phong,
             interpolation: scene.settings.interpolation,
             scene,
@@ -176,6 +184,17 @@ impl Viewer {
             self.antialias
         } else {
             Antialias::Off
+        }
+    }
+
+    /// The shadows of the next frame: as chosen (`--shadows`, key D, else the scene's) when it
+    /// is the refined still picture, in `--frames` mode, or when frames with shadow maps keep
+    /// up with [`MOVING_FRAME_MS`]; else off.
+    pub fn frame_shadows(&self) -> Option<bool> {
+        if self.fixed_frames || self.refine_next || self.shadows_keep_up {
+            self.shadows
+        } else {
+            Some(false)
         }
     }
 
@@ -241,7 +260,7 @@ impl View for Viewer {
             antialias: Some(self.frame_antialias()),
             fast_phong: Some(self.fast_phong),
             interpolation: Some(self.interpolation),
-            shadows: self.shadows,
+            shadows: self.frame_shadows(),
             ..FrameOptions::default()
         };
         let report = render_frame(&self.scene, &mut fb, &opts);
@@ -267,6 +286,12 @@ impl View for Viewer {
             self.antialias_keeps_up = ms <= MOVING_FRAME_MS;
         }
         self.last_antialias = used;
+        if !report.shadow_times.is_empty() {
+            self.shadows_keep_up = ms <= MOVING_FRAME_MS;
+        }
+        // Frames go without shadows only after one with maps was too slow, so a frame drawn
+        // without them leaves out maps the still picture draws.
+        self.shadows_dropped = opts.shadows != self.shadows;
         self.refine_next = false;
         self.frames += 1;
         self.total_ms += ms;
@@ -304,6 +329,7 @@ impl View for Viewer {
             },
             if self.bump { "" } else { " | bump off" },
             match self.shadows {
+                _ if self.shadows_dropped => " | shadows when still",
                 None => "",
                 Some(true) => " | shadows on",
                 Some(false) => " | shadows off",
@@ -340,7 +366,7 @@ impl View for Viewer {
     }
 
     fn wants_refinement(&self) -> bool {
-        !self.fixed_frames && self.last_antialias != self.antialias
+        !self.fixed_frames && (self.last_antialias != self.antialias || self.shadows_dropped)
     }
 
     fn refine(&mut self) {
@@ -434,5 +460,35 @@ mod tests {
         viewer.draw(64, 36, &mut out).unwrap();
         viewer.antialias = Antialias::Ssaa16;
         assert!(!viewer.wants_refinement());
+    }
+
+    #[test]
+    fn moving_frames_drop_slow_shadows_and_the_still_picture_draws_them() {
+        let mut viewer = Viewer::new(Scene::default_scene().unwrap());
+        let mut out = vec![0u32; 64 * 36];
+        // The default scene's key light casts shadows: the first frame draws its map, and
+        // whether it kept up depends on the machine.
+        viewer.draw(64, 36, &mut out).unwrap();
+        assert!(!viewer.shadows_dropped);
+        // Too slow: moving frames go without shadows and ask for the still picture.
+        viewer.shadows_keep_up = false;
+        viewer.apply(Action::Orbit { dx: 5.0, dy: 0.0 }, 36);
+        assert_eq!(viewer.frame_shadows(), Some(false));
+        viewer.draw(64, 36, &mut out).unwrap();
+        assert!(viewer.shadows_dropped && viewer.wants_refinement());
+        // The still picture has them again, and then nothing more is wanted.
+        viewer.refine();
+        assert_eq!(viewer.frame_shadows(), None);
+        viewer.draw(64, 36, &mut out).unwrap();
+        assert!(!viewer.shadows_dropped && !viewer.wants_refinement());
+        // Shadows switched off with key D are never dropped, so never refined.
+        viewer.shadows = Some(false);
+        viewer.shadows_keep_up = false;
+        viewer.draw(64, 36, &mut out).unwrap();
+        assert!(!viewer.shadows_dropped);
+        // `--frames` mode draws every frame as asked.
+        viewer.shadows = Some(true);
+        viewer.fixed_frames = true;
+        assert_eq!(viewer.frame_shadows(), Some(true));
     }
 }
