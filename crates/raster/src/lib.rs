@@ -98,7 +98,7 @@ mod tests;
 pub use antialias::{Antialias, UnknownAntialias};
 pub use bump::{BumpMap, ProceduralBump};
 pub use camera::{Camera, Projection};
-pub use encode::Encoding;
+pub use encode::{Encoding, ToneMap};
 pub use framebuffer::{Framebuffer, PixelLayout, RasterError};
 pub use render::{Frame, coverage_counts, render, render_fill_only};
 pub use shader::Shader;

@@ -12,7 +12,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 use phosphor_args::{
-    CameraArgs, INPUT_HEADING, NormalArgs, OUTPUT_HEADING, RENDERING_HEADING, parse_antialias,
+    Background, CameraArgs, INPUT_HEADING, NormalArgs, OUTPUT_HEADING, RENDERING_HEADING,
+    parse_antialias, parse_background,
 };
 use phosphor_raster::Antialias;
 use phosphor_scene::ShadingChoice;
@@ -133,9 +134,42 @@ pub struct RenderArgs {
     /// Worker threads; 0 = all cores; at most 4 per core (overrides the scene file).
     #[arg(long, help_heading = RENDERING_HEADING, value_name = "N")]
     pub threads: Option<usize>,
+    /// Background, overriding the scene's `render.background`: a linear colour R,G,B (as in
+    /// a scene file), R,G,B,A with an opacity A in [0, 1], or `transparent`. Where it is not
+    /// opaque, PNG gets an alpha channel (the share of each pixel's samples the geometry
+    /// covers, over the background's opacity) and EXR an A channel.
+    #[arg(
+        long,
+        help_heading = RENDERING_HEADING,
+        value_name = "R,G,B|transparent",
+        value_parser = parse_background
+    )]
+    pub background: Option<Background>,
     /// PNG encoding (overrides the scene file; EXR is always linear).
     #[arg(long, help_heading = OUTPUT_HEADING, value_enum, value_name = "srgb|linear")]
     pub encoding: Option<EncodingArg>,
+    /// Exposure in stops: intensities are scaled by 2^EV before they are written (PNG and
+    /// EXR). Either this or --tone-map keeps intensities above 1 in the frame.
+    #[arg(
+        long,
+        help_heading = OUTPUT_HEADING,
+        value_name = "EV",
+        default_value = "0",
+        allow_hyphen_values = true,
+        value_parser = parse_exposure
+    )]
+    pub exposure: f32,
+    /// How PNG brings intensities above 1 into range: `clamp` clips them (the default, the
+    /// picture of earlier versions), `reinhard` is x/(1+x), `aces` Narkowicz 2015's fit of
+    /// the ACES filmic curve (docs/outputs.md). EXR keeps them as they are.
+    #[arg(
+        long,
+        help_heading = OUTPUT_HEADING,
+        value_enum,
+        value_name = "clamp|reinhard|aces",
+        default_value = "clamp"
+    )]
+    pub tone_map: ToneMapArg,
     /// Variants of fast-phong, gouraud and phong.
     #[command(flatten)]
     pub variants: VariantArgs,

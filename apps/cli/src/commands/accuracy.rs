@@ -538,7 +538,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
             Some(dir) => write_image(
                 fb,
                 &dir.join(format!("{}.png", row.file)),
-                encoding,
+                &crate::output::Look::plain(encoding),
                 args.force,
                 &mut |_| {},
             ),
