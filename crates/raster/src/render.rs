@@ -108,6 +108,13 @@ impl<'f> Frame<'f> {
         &self.opts
     }
 
+    /// Whether the framebuffer keeps intensities above 1 ([`Framebuffer::set_hdr`]): then
+    /// nothing is clamped at 1, [`RenderOptions::gouraud_vertex_clamp`] included.
+    #[must_use]
+    pub fn hdr(&self) -> bool {
+        self.fb.hdr()
+    }
+
     /// Draws `mesh` placed by `model` (object to world) with `shader`; `cull_backfaces` skips
     /// its triangles facing away (clockwise on screen), as [`RenderOptions::cull_backfaces`]
     /// does for every draw. Bad input (indices out of range, non-finite positions, zero-area

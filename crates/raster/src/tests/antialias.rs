@@ -163,7 +163,8 @@ fn coverage_is_the_share_of_drawn_samples_and_hdr_keeps_intensities_above_one() 
     let cam = Camera::s1();
     let size = (40, 30);
     let mesh = quad(&cam, size, (5.3, 4.6, 33.7, 25.2));
-    // A directional light of intensity 3 along the view: diffuse well above 1.
+    // A directional light of intensity 3 along the view: diffuse well above 1 (Gouraud's
+    // vertex clamp, on by default, applies only to a framebuffer that clamps at 1).
     let lights = LightSet::new(
         Vec3::ZERO,
         &[Light::directional(-Vec3::Z, Vec3::splat(3.0)).unwrap()],
@@ -177,7 +178,6 @@ fn coverage_is_the_share_of_drawn_samples_and_hdr_keeps_intensities_above_one() 
             let opts = RenderOptions {
                 antialias: aa,
                 threads: 1,
-                gouraud_vertex_clamp: false,
                 ..RenderOptions::default()
             };
             let mut unit = crate::Framebuffer::new(size.0, size.1).unwrap();
@@ -211,11 +211,11 @@ fn coverage_is_the_share_of_drawn_samples_and_hdr_keeps_intensities_above_one() 
             }
             assert_eq!(coverage[0], 0.0);
             assert_eq!(coverage[(15 * size.0 + 20) as usize], 1.0);
-            // The left edge at x = 5.3 covers 0.7 of column 5: half or three quarters of
-            // its samples on the 2 x 2 and 4 x 4 grids, none at the pixel centre.
+            // The left edge at x = 5.3 covers 0.7 of column 5: its centre (5.5), half or
+            // three quarters of its samples on the 2 x 2 and 4 x 4 grids.
             let left = coverage[(15 * size.0 + 5) as usize];
             let want = match aa.factor() {
-                1 => 0.0,
+                1 => 1.0,
                 2 => 0.5,
                 _ => 0.75,
             };
