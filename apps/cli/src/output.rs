@@ -6,6 +6,7 @@
 use std::io::Write as _;
 use std::path::Path;
 
+use phosphor_math::glam::Vec3;
 use phosphor_output::image::{
     Transfer, encode_png, encode_png_rgba, write_exr, write_exr_rgba, write_png, write_png_rgba,
 };
@@ -139,12 +140,11 @@ type RowFiller<'a> = dyn FnMut(u32, &mut [u8]) + 'a;
 
 /// Fills PNG rows of `fb` as `look` says: [`png_rows`] when it is plain, else RGB or RGBA
 /// (4 bytes a pixel where [`Look::has_alpha`]).
-fn look_rows<'a>(fb: &'a Framebuffer, look: &Look) -> Box<RowFiller<'a>> {
-    if *look == Look::plain(look.encoding) {
-        return Box::new(png_rows(fb, look.encoding));
-    }
+fn look_rows<'a>((fb, colour): (&Framebuffer, &'a [Vec3]), look: &Look) -> Box<RowFiller<'a>> {
     let width = fb.width() as usize;
-    let colour = fb.color();
+    if *look == Look::plain(look.encoding) {
+        return Box::new(png_rows(colour, width, look.encoding));
+    }
     let alpha = look.has_alpha().then(|| fb.alpha(look.background_alpha));
     let bytes = if alpha.is_some() { 4 } else { 3 };
     let encoder = Encoder::new(look.encoding);
@@ -170,10 +170,8 @@ fn look_rows<'a>(fb: &'a Framebuffer, look: &Look) -> Box<RowFiller<'a>> {
     })
 }
 
-/// Fills PNG rows of `fb` in `encoding`.
-fn png_rows(fb: &Framebuffer, encoding: Encoding) -> impl FnMut(u32, &mut [u8]) + '_ {
-    let width = fb.width() as usize;
-    let colour = fb.color();
+/// Fills PNG rows of `colour` (`width` pixels a row) in `encoding`.
+fn png_rows(colour: &[Vec3], width: usize, encoding: Encoding) -> impl FnMut(u32, &mut [u8]) + '_ {
     let encoder = Encoder::new(encoding);
     move |y: u32, line: &mut [u8]| {
         let start = y as usize * width;
@@ -187,11 +185,12 @@ fn png_rows(fb: &Framebuffer, encoding: Encoding) -> impl FnMut(u32, &mut [u8]) 
     }
 }
 
-/// Writes `fb` to `out` as `look` says: PNG (8-bit, tagged, RGBA where the background is
+/// Writes `fb`, with the colours `colour` (its own, or a copy with an overlay drawn), to `out`
+/// as `look` says: PNG (8-bit, tagged, RGBA where the background is
 /// not opaque) or EXR (linear f32, premultiplied RGBA where it is not) by extension.
 /// `progress` receives the fraction written.
 pub fn write_image(
-    fb: &Framebuffer,
+    (fb, colour): (&Framebuffer, &[Vec3]),
     out: &Path,
     look: &Look,
     force: bool,
@@ -199,16 +198,15 @@ pub fn write_image(
 ) -> Result<(), CliError> {
     let size = (fb.width(), fb.height());
     let width = fb.width() as usize;
-    let colour = fb.color();
     let scale = look.scale;
     let tag = transfer(look.encoding);
     let written = match (format_of(out)?, look.has_alpha()) {
         (Format::Png, false) => {
-            let mut row = look_rows(fb, look);
+            let mut row = look_rows((fb, colour), look);
             write_png(out, force, size, tag, &mut row, progress)
         }
         (Format::Png, true) => {
-            let mut row = look_rows(fb, look);
+            let mut row = look_rows((fb, colour), look);
             write_png_rgba(out, force, size, tag, &mut row, progress)
         }
         (Format::Exr, false) => {
@@ -232,9 +230,9 @@ pub fn write_image(
 
 /// Writes `fb` as one PNG (8-bit, tagged, as `look` says) to standard output, and nothing
 /// else. The image is encoded whole first, so that a failed encoding writes no bytes.
-pub fn write_png_to_stdout(fb: &Framebuffer, look: &Look) -> Result<(), CliError> {
+pub fn write_png_to_stdout(fb: &Framebuffer, colour: &[Vec3], look: &Look) -> Result<(), CliError> {
     let mut bytes = std::io::Cursor::new(Vec::new());
-    let mut row = look_rows(fb, look);
+    let mut row = look_rows((fb, colour), look);
     let encode = if look.has_alpha() {
         encode_png_rgba
     } else {

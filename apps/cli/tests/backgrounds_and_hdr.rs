@@ -1,8 +1,9 @@
 //! Backgrounds and high-dynamic-range output from the command line: a transparent background
 //! gives PNG an alpha channel that is the exact coverage (0 outside the object, 255 inside,
 //! the share of samples on an anti-aliased edge) and EXR an A channel; EXR keeps intensities
-//! above 1; `--exposure` scales by `2^EV` and `--tone-map` brings highlights into range; bad
-//! values are one usage error naming the flag.
+//! above 1; `--exposure` scales by `2^EV` and `--tone-map` brings highlights into range;
+//! `--wireframe` draws the edges over the picture; bad values are one usage error naming the
+//! flag.
 
 #![allow(clippy::unwrap_used)]
 
@@ -314,4 +315,51 @@ fn bad_backgrounds_exposures_and_tone_maps_are_usage_errors_naming_the_flag() {
         e.contains("render.background: alpha must be in [0, 1], got 3"),
         "{e}"
     );
+}
+
+#[test]
+fn wireframe_draws_edges_over_the_picture_and_changes_nothing_else() {
+    let d = temp("wire");
+    let plain = image::open(render(&d, "plain.png", &CUBE))
+        .unwrap()
+        .to_rgb8();
+    let mut args = CUBE.to_vec();
+    args.push("--wireframe=1,0,0");
+    let wired = image::open(render(&d, "wired.png", &args))
+        .unwrap()
+        .to_rgb8();
+    let mut lines = 0;
+    for (p, q) in plain.pixels().zip(wired.pixels()) {
+        if p != q {
+            assert_eq!(q.0, [255, 0, 0]);
+            lines += 1;
+        }
+    }
+    // The cube's visible edges: three faces' outlines and diagonals, dozens of pixels.
+    assert!(lines > 60, "{lines} line pixels");
+    // Alone, the flag draws black lines.
+    let mut args = CUBE.to_vec();
+    args.push("--wireframe");
+    let black = image::open(render(&d, "black.png", &args))
+        .unwrap()
+        .to_rgb8();
+    let changed: Vec<_> = plain
+        .pixels()
+        .zip(black.pixels())
+        .filter(|(p, q)| p != q)
+        .collect();
+    assert!(changed.len() > 60 && changed.iter().all(|(_, q)| q.0 == [0, 0, 0]));
+    for bad in [
+        "--wireframe=1,2",
+        "--wireframe=0,0,0,1",
+        "--wireframe=nan,0,0",
+    ] {
+        let o = phosphor(&["render", bad, "-o", "x.png"]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {e}");
+        assert!(
+            e.starts_with("error: --wireframe: invalid value"),
+            "{bad}: {e}"
+        );
+    }
 }

@@ -336,3 +336,15 @@ impl ToneMapArg {
         }
     }
 }
+
+/// `--wireframe=R,G,B`: a linear colour, three finite non-negative numbers.
+///
+/// # Errors
+/// A message naming what was expected.
+pub fn parse_wire_color(text: &str) -> Result<phosphor_math::glam::Vec3, String> {
+    match phosphor_args::parse_background(text) {
+        Ok(b) if b.alpha == 1.0 && text.split(',').count() == 3 => Ok(b.color),
+        Ok(_) => Err(format!("expected R,G,B, got `{text}`")),
+        Err(e) => Err(e.replace("R,G,B, R,G,B,A or transparent", "R,G,B")),
+    }
+}

@@ -536,7 +536,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let save = |fb: &Framebuffer, row: Row| -> Result<(), CliError> {
         match &out_dir {
             Some(dir) => write_image(
-                fb,
+                (fb, fb.color()),
                 &dir.join(format!("{}.png", row.file)),
                 &crate::output::Look::plain(encoding),
                 args.force,

@@ -163,6 +163,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         );
         let render_start = Instant::now();
         let report = render_frame(&scene, &mut fb, &opts);
+        // The overlay goes into a copy of the colours; the frame itself stays as drawn.
+        let wired = args.wireframe.map(|color| {
+            let items = phosphor_scene::draw_items(&report.plan);
+            crate::wireframe::overlay(&fb, &scene.camera(), &items, color).0
+        });
+        let colour = wired.as_deref().unwrap_or(fb.color());
         let mut render_time = render_start.elapsed();
         if index == 0 {
             render_time += alloc_time;
@@ -195,7 +201,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             Output::None => None,
             Output::Stdout => {
                 // Standard output holds the image and nothing else.
-                write_png_to_stdout(&fb, &look)?;
+                write_png_to_stdout(&fb, colour, &look)?;
                 None
             }
             Output::Files(pattern) => {
@@ -208,7 +214,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                     Ok(())
                 };
                 let written = checked.and_then(|()| {
-                    write_image(&fb, &out, &look, args.force, &mut |f| {
+                    write_image((&fb, colour), &out, &look, args.force, &mut |f| {
                         set_fraction(&stage, &label, (2.0 + f) / 3.0);
                     })
                 });
