@@ -77,6 +77,7 @@ pub struct Args {
         long,
         help_heading = RENDERING_HEADING,
         value_name = "R,G,B|transparent",
+        allow_hyphen_values = true,
         value_parser = phosphor_args::parse_background
     )]
     pub background: Option<phosphor_args::Background>,

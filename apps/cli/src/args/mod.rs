@@ -142,6 +142,7 @@ pub struct RenderArgs {
         long,
         help_heading = RENDERING_HEADING,
         value_name = "R,G,B|transparent",
+        allow_hyphen_values = true,
         value_parser = parse_background
     )]
     pub background: Option<Background>,
