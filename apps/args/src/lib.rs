@@ -374,11 +374,90 @@ pub fn parse_antialias(text: &str) -> Result<Antialias, String> {
     text.parse().map_err(|e: UnknownAntialias| e.to_string())
 }
 
+/// A background given on the command line: a linear colour and its opacity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Background {
+    /// Linear colour, each channel finite and non-negative (as a scene file's `background`).
+    pub color: Vec3,
+    /// Opacity in `[0, 1]`: 0 for `transparent`, 1 unless a fourth number is given.
+    pub alpha: f32,
+}
+
+impl Background {
+    /// Sets `scene`'s background (its `render.background`) to this one.
+    pub fn apply(self, scene: &mut Scene) {
+        scene.settings.background = self.color;
+        scene.settings.background_alpha = self.alpha;
+    }
+}
+
+/// Parses `--background`: `R,G,B` (linear, non-negative, as a scene file's `background`),
+/// `R,G,B,A` with an opacity `A` in `[0, 1]`, or `transparent` (black, opacity 0).
+///
+/// # Errors
+/// Anything else, saying what was expected.
+pub fn parse_background(text: &str) -> Result<Background, String> {
+    if text == "transparent" {
+        return Ok(Background {
+            color: Vec3::ZERO,
+            alpha: 0.0,
+        });
+    }
+    let expected = || format!("expected R,G,B, R,G,B,A or transparent, got `{text}`");
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if !(3..=4).contains(&parts.len()) {
+        return Err(expected());
+    }
+    let mut v = [1.0f32; 4];
+    for (o, p) in v.iter_mut().zip(&parts) {
+        *o = p.parse().map_err(|_| expected())?;
+        if !o.is_finite() {
+            return Err(format!("every number must be finite, got `{text}`"));
+        }
+    }
+    let color = Vec3::new(v[0], v[1], v[2]);
+    if color.min_element() < 0.0 {
+        return Err(format!("colour must be non-negative, got `{text}`"));
+    }
+    if !(0.0..=1.0).contains(&v[3]) {
+        return Err(format!("opacity must be in [0, 1], got {}", parts[3]));
+    }
+    Ok(Background { color, alpha: v[3] })
+}
+
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
 
     use super::*;
+
+    #[test]
+    fn backgrounds_parse_with_an_opacity_and_bad_ones_say_why() {
+        let b = parse_background("0.2,0.4, 1").unwrap();
+        assert_eq!((b.color, b.alpha), (Vec3::new(0.2, 0.4, 1.0), 1.0));
+        let b = parse_background("1,1,1,0.25").unwrap();
+        assert_eq!((b.color, b.alpha), (Vec3::ONE, 0.25));
+        let b = parse_background("transparent").unwrap();
+        assert_eq!((b.color, b.alpha), (Vec3::ZERO, 0.0));
+        for (bad, says) in [
+            ("1,2", "expected R,G,B"),
+            ("1,2,3,4,5", "expected R,G,B"),
+            ("red", "expected R,G,B"),
+            ("1,x,3", "expected R,G,B"),
+            ("nan,0,0", "finite"),
+            ("inf,0,0", "finite"),
+            ("-1,0,0", "non-negative"),
+            ("0,0,0,2", "opacity must be in [0, 1]"),
+            ("0,0,0,-0.5", "opacity"),
+        ] {
+            let e = parse_background(bad).unwrap_err();
+            assert!(e.contains(says), "{bad}: {e}");
+        }
+        let mut scene = Scene::empty();
+        parse_background("0,1,0,0.5").unwrap().apply(&mut scene);
+        assert_eq!(scene.settings.background, Vec3::Y);
+        assert_eq!(scene.settings.background_alpha, 0.5);
+    }
 
     #[test]
     fn camera_flags_are_checked_and_name_the_flag() {

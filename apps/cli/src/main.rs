@@ -45,6 +45,7 @@ mod plot;
 mod progress;
 mod rgb8;
 mod view;
+mod wireframe;
 
 use std::process::ExitCode;
 

@@ -70,6 +70,17 @@ pub struct Args {
     /// scene's, off and on.
     #[arg(long, help_heading = RENDERING_HEADING, value_name = "on|off", value_parser = parse_on_off)]
     pub shadows: Option<bool>,
+    /// Background, overriding the scene's `render.background`: a linear colour R,G,B,
+    /// R,G,B,A with an opacity A in [0, 1], or `transparent`. The window shows a background
+    /// that is not opaque over black (its colour times its opacity).
+    #[arg(
+        long,
+        help_heading = RENDERING_HEADING,
+        value_name = "R,G,B|transparent",
+        allow_hyphen_values = true,
+        value_parser = phosphor_args::parse_background
+    )]
+    pub background: Option<phosphor_args::Background>,
     /// Draw this many frames, then exit.
     #[arg(
         long,
@@ -145,7 +156,7 @@ mod tests {
     fn expected(flag: &str) -> Option<&'static str> {
         Some(match flag {
             "mesh" => INPUT_HEADING,
-            "size" | "shading" | "aa" | "shadows" => RENDERING_HEADING,
+            "size" | "shading" | "aa" | "shadows" | "background" => RENDERING_HEADING,
             "frames" | "screenshot" | "force" => FRAMES_HEADING,
             "eye" | "target" | "up" | "fov" | "azimuth" | "elevation" | "distance" | "ortho"
             | "view" => CAMERA_HEADING,

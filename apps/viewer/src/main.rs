@@ -112,6 +112,9 @@ fn main() -> ExitCode {
         Ok(s) => s,
         Err(e) => return fail(&e),
     };
+    if let Some(background) = args.background {
+        background.apply(&mut scene);
+    }
     let size = args.size.unwrap_or(DEFAULT_SIZE);
     let frame_mesh = args.scene.is_none() && args.mesh.is_some();
     if let Err(e) =

@@ -1,5 +1,5 @@
-//! Image encoders writing into a [`Sink`]: 8-bit RGB PNG tagged with its transfer curve, and
-//! linear f32 RGB OpenEXR. Both take pixels row by row or pixel by pixel from the caller, so
+//! Image encoders writing into a [`Sink`]: 8-bit RGB or RGBA PNG tagged with its transfer
+//! curve, and linear f32 RGB or RGBA OpenEXR. Both take pixels row by row or pixel by pixel from the caller, so
 //! no second copy of a large image is made. The callbacks are trait objects so that the
 //! encoders' loops are compiled (and optimised) here, not in each caller.
 
@@ -44,8 +44,40 @@ pub fn encode_png(
     row: &mut dyn FnMut(u32, &mut [u8]),
     progress: &mut dyn FnMut(f64),
 ) -> Result<(), String> {
+    encode_png_channels(sink, (width, height, 3), transfer, row, progress)
+}
+
+/// [`encode_png`] with an alpha channel: 8-bit RGBA, `row(y, out)` filling
+/// `out.len() == 4 * width` bytes. Alpha is linear coverage (PNG's is never gamma-encoded)
+/// and the colour is not premultiplied by it, as PNG defines.
+///
+/// # Errors
+/// The encoder's message (an I/O failure of `sink` included).
+pub fn encode_png_rgba(
+    sink: &mut dyn Sink,
+    width: u32,
+    height: u32,
+    transfer: Transfer,
+    row: &mut dyn FnMut(u32, &mut [u8]),
+    progress: &mut dyn FnMut(f64),
+) -> Result<(), String> {
+    encode_png_channels(sink, (width, height, 4), transfer, row, progress)
+}
+
+/// [`encode_png`] with 3 (RGB) or 4 (RGBA) channels.
+fn encode_png_channels(
+    sink: &mut dyn Sink,
+    (width, height, channels): (u32, u32, usize),
+    transfer: Transfer,
+    row: &mut dyn FnMut(u32, &mut [u8]),
+    progress: &mut dyn FnMut(f64),
+) -> Result<(), String> {
     let mut encoder = png::Encoder::new(sink, width, height);
-    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_color(if channels == 4 {
+        png::ColorType::Rgba
+    } else {
+        png::ColorType::Rgb
+    });
     encoder.set_depth(png::BitDepth::Eight);
     encoder.set_compression(png::Compression::Fast);
     match transfer {
@@ -66,7 +98,7 @@ pub fn encode_png(
         .write_chunk(png::chunk::cICP, &cicp(transfer))
         .map_err(png_error)?;
     let mut stream = writer.stream_writer().map_err(png_error)?;
-    let mut line = vec![0u8; width as usize * 3];
+    let mut line = vec![0u8; width as usize * channels];
     for y in 0..height {
         row(y, &mut line);
         std::io::Write::write_all(&mut stream, &line).map_err(|e| e.to_string())?;
@@ -119,6 +151,35 @@ pub fn encode_exr(
         })
 }
 
+/// Encodes a linear f32 RGBA OpenEXR: [`encode_exr`] with alpha, `pixel(x, y)` giving
+/// `[r, g, b, a]` with the colour premultiplied by `a`, as OpenEXR defines.
+///
+/// # Errors
+/// The encoder's message (an I/O failure of `sink` included).
+pub fn encode_exr_rgba(
+    sink: &mut dyn Sink,
+    width: u32,
+    height: u32,
+    pixel: &(dyn Fn(u32, u32) -> [f32; 4] + Sync),
+    progress: &mut dyn FnMut(f64),
+) -> Result<(), String> {
+    use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
+    let channels = SpecificChannels::rgba(|p: Vec2<usize>| {
+        // Positions are below width and height, which are u32.
+        let [r, g, b, a] = pixel(p.x() as u32, p.y() as u32);
+        (r, g, b, a)
+    });
+    Image::from_channels((width as usize, height as usize), channels)
+        .write()
+        .non_parallel()
+        .on_progress(progress)
+        .to_buffered(sink)
+        .map_err(|e| match e {
+            exr::error::Error::Io(io) => io.to_string(),
+            other => format!("EXR encoder: {other}"),
+        })
+}
+
 /// Writes an 8-bit RGB PNG to `path` through [`write_file`]; see [`encode_png`].
 ///
 /// # Errors
@@ -149,5 +210,39 @@ pub fn write_exr(
 ) -> Result<(), OutputError> {
     write_file(path, force, |sink| {
         encode_exr(sink, width, height, pixel, progress)
+    })
+}
+
+/// Writes an 8-bit RGBA PNG to `path` through [`write_file`]; see [`encode_png_rgba`].
+///
+/// # Errors
+/// As [`write_file`].
+pub fn write_png_rgba(
+    path: &Path,
+    force: bool,
+    (width, height): (u32, u32),
+    transfer: Transfer,
+    row: &mut dyn FnMut(u32, &mut [u8]),
+    progress: &mut dyn FnMut(f64),
+) -> Result<(), OutputError> {
+    write_file(path, force, |sink| {
+        encode_png_rgba(sink, width, height, transfer, row, progress)
+    })
+}
+
+/// Writes a linear f32 RGBA OpenEXR to `path` through [`write_file`]; see
+/// [`encode_exr_rgba`].
+///
+/// # Errors
+/// As [`write_file`].
+pub fn write_exr_rgba(
+    path: &Path,
+    force: bool,
+    (width, height): (u32, u32),
+    pixel: &(dyn Fn(u32, u32) -> [f32; 4] + Sync),
+    progress: &mut dyn FnMut(f64),
+) -> Result<(), OutputError> {
+    write_file(path, force, |sink| {
+        encode_exr_rgba(sink, width, height, pixel, progress)
     })
 }

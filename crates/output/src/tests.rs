@@ -8,7 +8,7 @@ use std::io::{self, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use crate::file::{OutputError, Storage, write_through};
-use crate::image::{Transfer, encode_exr, encode_png};
+use crate::image::{Transfer, encode_exr, encode_exr_rgba, encode_png, encode_png_rgba};
 use crate::write_file;
 
 /// A file on a disk with room for `room` bytes: a write past that fails with ENOSPC after
@@ -93,6 +93,37 @@ fn exr_encoder(sink: &mut dyn crate::file::Sink) -> Result<(), String> {
         &|x, y| [x as f32 * 0.1, y as f32 * 0.2, 1.5],
         &mut |_| {},
     )
+}
+
+#[test]
+fn rgba_png_keeps_its_alpha_bytes_and_rgba_exr_encodes() {
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    let mut row = |y: u32, out: &mut [u8]| {
+        for (x, px) in out.chunks_exact_mut(4).enumerate() {
+            px.copy_from_slice(&[x as u8, y as u8, 7, (x * 25 + y as usize) as u8]);
+        }
+    };
+    encode_png_rgba(&mut bytes, W, H, Transfer::Srgb, &mut row, &mut |_| {}).unwrap();
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes.into_inner()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    assert_eq!((info.width, info.height), (W, H));
+    let at = |x: usize, y: usize| &pixels[(y * W as usize + x) * 4..][..4];
+    assert_eq!(at(3, 2), [3, 2, 7, 77]);
+    assert_eq!(at(8, 6), [8, 6, 7, 206]);
+    let mut exr = std::io::Cursor::new(Vec::new());
+    let pixel = |x: u32, _: u32| [x as f32, 2.5, 0.0, 0.5];
+    encode_exr_rgba(&mut exr, W, H, &pixel, &mut |_| {}).unwrap();
+    let exr = exr.into_inner();
+    assert!(
+        exr.starts_with(&[0x76, 0x2f, 0x31, 0x01]),
+        "OpenEXR magic number"
+    );
+    // The channel list names A beside B, G and R.
+    let names = String::from_utf8_lossy(&exr[..400]).into_owned();
+    assert!(names.contains("A\0") && names.contains("R\0"), "{names}");
 }
 
 /// The size of the file `encode` writes on a disk with room to spare.

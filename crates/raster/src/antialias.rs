@@ -247,7 +247,8 @@ fn resolve_row<const K: usize>(
                 sums[j] = sums[2 * j] + sums[2 * j + 1];
             }
         }
-        // Samples are clamped to [0, 1], so their mean is too.
+        // Samples are clamped to [0, 1] (or [0, HDR_MAX]), so their mean is too, and the sum of
+        // 16 of them is finite.
         *c = sums[0] * scale;
         *d = nearest;
     }

@@ -226,6 +226,7 @@ fn by_pixel_pass<S: Shader>(
         n: interpolated::<S>(),
         perspective: input.perspective && S::VARYINGS > 0,
         block: block as usize,
+        ceiling: input.ceiling,
     };
     let shader = input.shader;
     let shaded = if input.wide.avx2.is_some() {

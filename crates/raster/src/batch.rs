@@ -7,7 +7,7 @@ use glam::Vec3;
 use phosphor_lighting::Lanes;
 
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::framebuffer::clamp_color;
+use crate::framebuffer::clamp_color_to;
 use crate::shader::{MAX_VARYINGS, Shader, Varyings, interpolated};
 
 /// Pixels waiting to be shaded `N` at a time, each with where its colour goes: a pixel index
@@ -17,16 +17,19 @@ pub(crate) struct Pending<T, const N: usize> {
     idx: [T; N],
     attrs: [Attrs; N],
     len: usize,
+    /// The framebuffer's largest intensity, that colours are clamped to.
+    ceiling: f32,
 }
 
 impl<T: Copy + Default, const N: usize> Pending<T, N> {
-    /// No pixel waiting.
+    /// No pixel waiting; colours will be clamped to `[0, ceiling]`.
     #[must_use]
-    pub fn new() -> Pending<T, N> {
+    pub fn new(ceiling: f32) -> Pending<T, N> {
         Pending {
             idx: [T::default(); N],
             attrs: [[0.0; MAX_ATTRS]; N],
             len: 0,
+            ceiling,
         }
     }
 
@@ -68,7 +71,7 @@ impl<T: Copy + Default, const N: usize> Pending<T, N> {
         let c = shade(&self.attrs, self.len);
         for k in 0..self.len {
             debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
-            write(self.idx[k], clamp_color(c[k]));
+            write(self.idx[k], clamp_color_to(c[k], self.ceiling));
         }
         self.len = 0;
     }

@@ -43,6 +43,8 @@ pub(crate) struct ByPixel<'a> {
     /// centroid of the samples it owns there, and the colour written to each of them. 2 or
     /// 4; any other value shades every sample.
     pub block: usize,
+    /// The framebuffer's largest intensity, that every colour is clamped to.
+    pub ceiling: f32,
 }
 
 impl ByPixel<'_> {
@@ -80,7 +82,7 @@ impl ByPixel<'_> {
     ) -> u64 {
         let width = self.width as usize;
         let mut shaded = 0;
-        let mut pending = Pending::<usize, N>::new();
+        let mut pending = Pending::<usize, N>::new(self.ceiling);
         for (row, &(lo, hi)) in self.extents.iter().enumerate() {
             let base = row * width;
             let (lo, hi) = (lo as usize, (hi as usize).min(width));

@@ -1,4 +1,5 @@
-//! Linear `[0, 1]` intensity to 8-bit codes through a 4096-entry table (sRGB or linear).
+//! Linear `[0, 1]` intensity to 8-bit codes through a 4096-entry table (sRGB or linear), and
+//! the tone curves ([`ToneMap`]) that bring intensities above 1 into that range first.
 
 use std::sync::OnceLock;
 
@@ -81,9 +82,107 @@ impl Encoder {
     }
 }
 
+/// How linear intensities, which may exceed 1 in a high-dynamic-range framebuffer
+/// ([`crate::Framebuffer::set_hdr`]), are brought into `[0, 1]` before the 8-bit encoding.
+/// Each maps every `f32` (NaN and infinities included) into `[0, 1]`, is non-decreasing on
+/// `[0, inf)` and maps 0 to 0; names as used by the CLI.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ToneMap {
+    /// `min(x, 1)`: what the encoding tables do, the 8-bit output of every earlier version.
+    #[default]
+    Clamp,
+    /// Reinhard et al. 2002's global operator `x / (1 + x)` per channel: every intensity
+    /// keeps a distinct code below 1, and 1 maps to 0.5.
+    Reinhard,
+    /// Narkowicz 2015's fit of the ACES filmic curve, per channel:
+    /// `x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14)`, clamped to `[0, 1]` (it reaches 1
+    /// near `x = 7.24`).
+    Aces,
+}
+
+impl ToneMap {
+    /// Every choice, in the CLI's order.
+    pub const ALL: [ToneMap; 3] = [ToneMap::Clamp, ToneMap::Reinhard, ToneMap::Aces];
+
+    /// The name: `clamp`, `reinhard`, `aces`.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            ToneMap::Clamp => "clamp",
+            ToneMap::Reinhard => "reinhard",
+            ToneMap::Aces => "aces",
+        }
+    }
+
+    /// The curve at `x`, in `[0, 1]`; NaN and values below 0 give 0, `+inf` gives 1.
+    #[must_use]
+    #[allow(
+        clippy::manual_clamp,
+        reason = "max/min map NaN to a bound, clamp() keeps it"
+    )]
+    pub fn apply(self, x: f32) -> f32 {
+        let x = if x > 0.0 { x } else { 0.0 };
+        let y = match self {
+            ToneMap::Clamp => x,
+            ToneMap::Reinhard if x.is_infinite() => 1.0,
+            ToneMap::Reinhard => x / (1.0 + x),
+            ToneMap::Aces if x > 1e6 => 1.0,
+            ToneMap::Aces => (x * (2.51 * x + 0.03)) / (x * (2.43 * x + 0.59) + 0.14),
+        };
+        y.max(0.0).min(1.0)
+    }
+}
+
+impl std::fmt::Display for ToneMap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ToneMap {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        ToneMap::ALL
+            .into_iter()
+            .find(|t| t.name() == s)
+            .ok_or_else(|| format!("unknown tone map '{s}' (expected clamp, reinhard or aces)"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tone_maps_send_zero_to_zero_rise_and_stay_in_the_unit_range() {
+        for t in ToneMap::ALL {
+            assert_eq!(t.apply(0.0), 0.0, "{t}");
+            assert_eq!(t.name().parse::<ToneMap>(), Ok(t));
+            for bad in [f32::NAN, -1.0, f32::NEG_INFINITY] {
+                assert_eq!(t.apply(bad), 0.0, "{t} at {bad}");
+            }
+            assert_eq!(t.apply(f32::INFINITY), 1.0, "{t}");
+            let mut last = 0.0;
+            for i in 1..=20_000 {
+                let x = i as f32 * 1e-3;
+                let y = t.apply(x);
+                assert!((0.0..=1.0).contains(&y), "{t} at {x}: {y}");
+                assert!(y >= last, "{t} falls at {x}: {y} < {last}");
+                last = y;
+            }
+        }
+        // The curves themselves, where they differ from the clamp.
+        assert_eq!(ToneMap::Clamp.apply(2.0), 1.0);
+        assert_eq!(ToneMap::Reinhard.apply(1.0), 0.5);
+        assert!((ToneMap::Reinhard.apply(3.0) - 0.75).abs() < 1e-6);
+        let aces_1 = 2.54 / 3.16;
+        assert!((ToneMap::Aces.apply(1.0) - aces_1).abs() < 1e-6);
+        assert_eq!(ToneMap::Aces.apply(7.5), 1.0);
+        assert!(ToneMap::Aces.apply(7.0) < 1.0);
+        // Reinhard keeps highlights apart that the clamp merges.
+        assert!(ToneMap::Reinhard.apply(2.0) < ToneMap::Reinhard.apply(4.0));
+        assert!("filmic".parse::<ToneMap>().is_err());
+    }
 
     #[test]
     fn table_encoding_matches_the_curve_within_one_code() {

@@ -1,4 +1,5 @@
-//! The framebuffer: linear f32 RGB clamped to `[0, 1]` plus a depth buffer, and its encodings.
+//! The framebuffer: linear f32 RGB clamped to `[0, 1]` (or, for high-dynamic-range output, to
+//! `[0, HDR_MAX]`) plus a depth buffer, its coverage, and its encodings.
 
 use glam::Vec3;
 
@@ -28,7 +29,15 @@ pub const MAX_SIDE: u32 = 1 << 15;
 /// Depth of an empty pixel: the far plane, which is not drawn (the test is `depth < stored`).
 pub const FAR_DEPTH: f32 = 1.0;
 
-/// Linear RGB intensities (row 0 at the top) and depth in `[0, 1]` (0 = near plane).
+/// The largest intensity a high-dynamic-range framebuffer keeps ([`Framebuffer::set_hdr`]):
+/// the largest finite half-precision float, so that an image stays finite when stored as
+/// 16-bit floats (OpenEXR's `half`), and 16 samples of it still sum to a finite `f32` in the
+/// anti-aliasing resolve.
+pub const HDR_MAX: f32 = 65504.0;
+
+/// Linear RGB intensities (row 0 at the top) and depth in `[0, 1]` (0 = near plane). The
+/// intensities are clamped to `[0, 1]` as they are written, or to `[0, HDR_MAX]` with
+/// [`Framebuffer::set_hdr`].
 #[derive(Debug, Clone)]
 pub struct Framebuffer {
     width: u32,
@@ -48,6 +57,8 @@ pub struct Framebuffer {
     /// The sample image of the last anti-aliased frame ([`crate::Antialias`]), kept so that
     /// the next frame of the same size and choice reuses it instead of allocating again.
     pub(crate) samples: Option<Box<Framebuffer>>,
+    /// The largest intensity a pixel keeps: 1, or [`HDR_MAX`] ([`Framebuffer::set_hdr`]).
+    pub(crate) ceiling: f32,
 }
 
 /// A row with no pixel written since the last clear (see [`Framebuffer`]'s `dirty`).
@@ -64,11 +75,20 @@ pub(crate) const CLEAN_ROW: (u32, u32) = (u32::MAX, 0);
 #[inline]
 #[must_use]
 pub fn clamp_color(c: Vec3) -> Vec3 {
-    let unit = |x: f32| {
+    clamp_color_to(c, 1.0)
+}
+
+/// [`clamp_color`] to `[0, ceiling]` instead: NaN and `-0.0` to `+0.0`, `+inf` to `ceiling`.
+/// The renderer's gate takes the framebuffer's ceiling (1, or [`HDR_MAX`]) as a value, so
+/// that either range costs the same two selects per channel.
+#[inline]
+#[must_use]
+pub fn clamp_color_to(c: Vec3, ceiling: f32) -> Vec3 {
+    let clamp = |x: f32| {
         let x = if x > 0.0 { x } else { 0.0 };
-        if x < 1.0 { x } else { 1.0 }
+        if x < ceiling { x } else { ceiling }
     };
-    Vec3::new(unit(c.x), unit(c.y), unit(c.z))
+    Vec3::new(clamp(c.x), clamp(c.y), clamp(c.z))
 }
 
 impl Framebuffer {
@@ -97,7 +117,83 @@ impl Framebuffer {
             clean: Some(Vec3::ZERO),
             dirty: vec![CLEAN_ROW; height as usize],
             samples: None,
+            ceiling: 1.0,
         })
+    }
+
+    /// Keeps intensities above 1 (up to [`HDR_MAX`]) from the next frame on, for output
+    /// that holds them (OpenEXR, tone mapping); `false` (the default) clamps every pixel to
+    /// `[0, 1]` as it is written. Either way no NaN or infinity is stored. A framebuffer
+    /// drawn with anti-aliasing averages what it keeps: clamped samples in `[0, 1]`, or the
+    /// samples' own intensities.
+    pub fn set_hdr(&mut self, hdr: bool) {
+        let ceiling = if hdr { HDR_MAX } else { 1.0 };
+        if ceiling != self.ceiling {
+            self.ceiling = ceiling;
+            // The pixels hold the last clear clamped to the old range: rewrite them all.
+            self.clean = None;
+            self.samples = None;
+        }
+    }
+
+    /// Whether intensities above 1 are kept ([`Framebuffer::set_hdr`]).
+    #[must_use]
+    pub fn hdr(&self) -> bool {
+        self.ceiling > 1.0
+    }
+
+    /// Per pixel (row-major from the top), the share of its samples that the last frame drew
+    /// a triangle on: 1 or 0 without anti-aliasing, `j / (k * k)` with `k x k` samples per
+    /// pixel. A sample is drawn where its depth is nearer than the far plane (every drawn
+    /// depth is, the depth test being `depth < stored`), so this costs nothing while drawing;
+    /// it reads the sample image an anti-aliased frame keeps, or the pixels' own depths.
+    #[must_use]
+    pub fn coverage(&self) -> Vec<f32> {
+        let width = self.width as usize;
+        let (depth, k) = match &self.samples {
+            Some(s)
+                if s.width / self.width > 1
+                    && s.width == self.width * (s.width / self.width)
+                    && s.height == self.height * (s.width / self.width) =>
+            {
+                (&s.depth, (s.width / self.width) as usize)
+            }
+            _ => (&self.depth, 1),
+        };
+        let stride = width * k;
+        let scale = 1.0 / (k * k) as f32;
+        let mut out = Vec::with_capacity(self.depth.len());
+        for y in 0..self.height as usize {
+            for x in 0..width {
+                let mut drawn = 0u32;
+                for sy in 0..k {
+                    let row = &depth[(y * k + sy) * stride + x * k..][..k];
+                    drawn += row.iter().filter(|&&d| d < FAR_DEPTH).count() as u32;
+                }
+                out.push(drawn as f32 * scale);
+            }
+        }
+        out
+    }
+
+    /// Per pixel, its opacity over a background of opacity `background` (clamped to
+    /// `[0, 1]`, NaN as 0): `c + (1 - c) * background` for the pixel's
+    /// [`Framebuffer::coverage`] `c`. Drawn over a background cleared to its colour times
+    /// its opacity, the pixels then hold colours premultiplied by this alpha, as the
+    /// resolve averages colour and coverage alike: a pixel half covered over a transparent
+    /// background has alpha 0.5 and half the surface's colour.
+    #[must_use]
+    #[allow(
+        clippy::manual_clamp,
+        reason = "max/min map NaN to a bound, clamp() keeps it"
+    )]
+    pub fn alpha(&self, background: f32) -> Vec<f32> {
+        let b = background.max(0.0).min(1.0);
+        let mut alpha = self.coverage();
+        for a in &mut alpha {
+            *a += (1.0 - *a) * b;
+        }
+        alpha
     }
 
     /// Width in pixels.
@@ -112,10 +208,11 @@ impl Framebuffer {
         self.height
     }
 
-    /// Fills the colour with `background` (clamped) and resets depth to the far plane. When the
-    /// last clear had the same colour, only the pixels written since are rewritten.
+    /// Fills the colour with `background` (clamped to the framebuffer's range) and resets
+    /// depth to the far plane. When the last clear had the same colour, only the pixels
+    /// written since are rewritten.
     pub fn clear(&mut self, background: Vec3) {
-        let bg = clamp_color(background);
+        let bg = clamp_color_to(background, self.ceiling);
         let only_dirty = same_color(self.clean, bg);
         let width = self.width;
         clear_rows(
@@ -130,7 +227,7 @@ impl Framebuffer {
 
     /// Defers [`Framebuffer::clear`] to the next banded draw (the renderer's own use).
     pub(crate) fn defer_clear(&mut self, background: Vec3) {
-        self.pending_clear = Some(clamp_color(background));
+        self.pending_clear = Some(clamp_color_to(background, self.ceiling));
     }
 
     /// Drops the sample image an anti-aliased frame keeps for reuse.
@@ -163,7 +260,8 @@ impl Framebuffer {
         self.depth[y as usize * self.width as usize + x as usize]
     }
 
-    /// All colours, row-major from the top row, each channel in `[0, 1]`.
+    /// All colours, row-major from the top row, each channel in `[0, 1]` (in `[0, HDR_MAX]`
+    /// with [`Framebuffer::set_hdr`]).
     #[must_use]
     pub fn color(&self) -> &[Vec3] {
         &self.color

@@ -98,7 +98,7 @@ mod tests;
 pub use antialias::{Antialias, UnknownAntialias};
 pub use bump::{BumpMap, ProceduralBump};
 pub use camera::{Camera, Projection};
-pub use encode::Encoding;
+pub use encode::{Encoding, ToneMap};
 pub use framebuffer::{Framebuffer, PixelLayout, RasterError};
 pub use render::{Frame, coverage_counts, render, render_fill_only};
 pub use shader::Shader;
@@ -352,6 +352,8 @@ pub struct RenderOptions {
     /// `gouraud` clamps each vertex intensity to at most 1 before interpolating (default:
     /// what is interpolated is what each vertex shows, see `docs/conventions.md`); false
     /// interpolates the model's values as Gouraud 1971 writes them and clamps only the pixel.
+    /// A framebuffer that keeps intensities above 1 ([`Framebuffer::set_hdr`]) shows them at
+    /// the vertices too, so there it does not apply.
     pub gouraud_vertex_clamp: bool,
     /// How `fast-phong` makes its per-triangle polynomials (default: the six-point fit; or
     /// Bishop and Weimer 1986's Taylor expansion).

@@ -76,7 +76,7 @@ impl ByPixel<'_> {
         let width = self.width as usize;
         let all = block_mask::<K>();
         let mut shaded = 0;
-        let mut pending = Pending::<BlockSamples, N>::new();
+        let mut pending = Pending::<BlockSamples, N>::new(self.ceiling);
         for by in 0..self.extents.len() / K {
             let top = (self.y0 + (by * K) as i64) as f64;
             // The run of whole blocks being stepped, as in `run`, by K pixels a block.

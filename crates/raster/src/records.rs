@@ -33,6 +33,8 @@ pub(crate) struct BandInput<'a, S: Shader> {
     pub incremental: bool,
     /// The frame's lane width.
     pub wide: Wide,
+    /// The framebuffer's largest intensity, that every colour is clamped to.
+    pub ceiling: f32,
 }
 
 impl<S: Shader> BandInput<'_, S> {
@@ -135,13 +137,14 @@ impl<S: Shader> BandInput<'_, S> {
         match S::FACE {
             Face::Constant => {
                 let color = c.colors.get(r.tri as usize).copied().unwrap_or(Vec3::ZERO);
-                return traverse(t, &mut Solid::of(color), target);
+                return traverse(t, &mut Solid::of(color, self.ceiling), target);
             }
             Face::Stepped => {
                 if let Some(tri) = c.stepped_of(r) {
                     let mut shade = SteppedSpan {
                         shader: self.shader,
                         tri,
+                        ceiling: self.ceiling,
                     };
                     return traverse(t, &mut shade, target);
                 }
@@ -150,7 +153,7 @@ impl<S: Shader> BandInput<'_, S> {
         }
         let full = target.pass == Pass::Full;
         let shaded = match (self.incremental, S::SHADE_ONCE) {
-            (false, false) => traverse(t, &mut OnePixel(self.shader), target),
+            (false, false) => traverse(t, &mut OnePixel(self.shader, self.ceiling), target),
             (false, true) => traverse(t, batched, target),
             (true, once) => {
                 let Some((p, a)) = self.vertices_of(r, c, S::VARYINGS) else {
@@ -160,7 +163,7 @@ impl<S: Shader> BandInput<'_, S> {
                 if once {
                     traverse_incremental(t, batched, &walk, target)
                 } else {
-                    traverse_incremental(t, &mut OnePixel(self.shader), &walk, target)
+                    traverse_incremental(t, &mut OnePixel(self.shader, self.ceiling), &walk, target)
                 }
             }
         };
@@ -175,7 +178,7 @@ impl<S: Shader> BandInput<'_, S> {
     pub(crate) fn batched(&self) -> Batched<'_, S> {
         Batched {
             shader: self.shader,
-            pending: Pending::new(),
+            pending: Pending::new(self.ceiling),
         }
     }
 }

@@ -52,6 +52,10 @@ impl<'f> Frame<'f> {
             // `fits` checked the sides, so only the allocation itself can fail: draw one
             // sample per pixel then, and say so in the stats.
             samples = reusable.or_else(|| Framebuffer::new(width, height).ok().map(Box::new));
+            // The samples keep what the framebuffer keeps, so that the resolve averages it.
+            if let Some(s) = &mut samples {
+                s.set_hdr(fb.hdr());
+            }
             if samples.is_some() {
                 factor = k;
                 block = if aa.multisample() { k } else { 1 };
@@ -102,6 +106,13 @@ impl<'f> Frame<'f> {
     #[must_use]
     pub fn options(&self) -> &RenderOptions {
         &self.opts
+    }
+
+    /// Whether the framebuffer keeps intensities above 1 ([`Framebuffer::set_hdr`]): then
+    /// nothing is clamped at 1, [`RenderOptions::gouraud_vertex_clamp`] included.
+    #[must_use]
+    pub fn hdr(&self) -> bool {
+        self.fb.hdr()
     }
 
     /// Draws `mesh` placed by `model` (object to world) with `shader`; `cull_backfaces` skips
@@ -313,6 +324,7 @@ fn run<S: Shader>(
         incremental: opts.interpolation == Interpolation::Incremental
             && S::FACE == Face::Interpolated,
         wide,
+        ceiling: fb.ceiling,
     };
     stats.pixels_shaded += draw_bands(fb, &input, threads, count, block);
 }

@@ -18,7 +18,7 @@ use phosphor_lighting::F32x1;
 use crate::batch::{Pending, shade_rows};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, lanes, pixel_drawn};
-use crate::framebuffer::clamp_color;
+use crate::framebuffer::clamp_color_to;
 use crate::setup::RasterTri;
 use crate::shader::{MAX_QUADRATICS, Pixels, Shader, Stepped, Varyings, interpolated};
 
@@ -66,11 +66,11 @@ impl SpanShade for Solid {
 }
 
 impl Solid {
-    /// The colour `c`, clamped as every colour written is.
+    /// The colour `c`, clamped to `[0, ceiling]` as every colour written is.
     #[must_use]
-    pub fn of(c: Vec3) -> Solid {
+    pub fn of(c: Vec3, ceiling: f32) -> Solid {
         debug_assert!(c.is_finite(), "non-finite colour {c}");
-        Solid(clamp_color(c))
+        Solid(clamp_color_to(c, ceiling))
     }
 }
 
@@ -84,16 +84,16 @@ fn one_lane(attrs: &Attrs, w: f32, n: usize) -> Varyings<F32x1> {
     v
 }
 
-/// The first lane of `c` as a clamped colour.
+/// The first lane of `c` as a colour clamped to `[0, ceiling]`.
 #[inline(always)]
-fn first(c: phosphor_lighting::Vec3s<F32x1>) -> Vec3 {
+fn first(c: phosphor_lighting::Vec3s<F32x1>, ceiling: f32) -> Vec3 {
     let c = Vec3::new(c.x.0, c.y.0, c.z.0);
     debug_assert!(c.is_finite(), "non-finite colour {c}");
-    clamp_color(c)
+    clamp_color_to(c, ceiling)
 }
 
-/// The shader's pixel stage, one pixel per call.
-pub(crate) struct OnePixel<'s, S>(pub &'s S);
+/// The shader's pixel stage, one pixel per call, and the framebuffer's largest intensity.
+pub(crate) struct OnePixel<'s, S>(pub &'s S, pub f32);
 
 impl<S: Shader> SpanShade for OnePixel<'_, S> {
     const ATTRS: usize = interpolated::<S>();
@@ -102,7 +102,10 @@ impl<S: Shader> SpanShade for OnePixel<'_, S> {
     fn span(&self, _: f64, _: f64) {}
     #[inline(always)]
     fn pixel(&mut self, _: &(), idx: usize, (a, w): (&Attrs, f32), _: (i64, i64), c: &mut [Vec3]) {
-        c[idx] = first(self.0.pixel(&one_lane(a, w, lanes(interpolated::<S>()))));
+        c[idx] = first(
+            self.0.pixel(&one_lane(a, w, lanes(interpolated::<S>()))),
+            self.1,
+        );
     }
     #[inline(always)]
     fn step(_: &mut ()) {}
@@ -146,6 +149,8 @@ impl<S: Shader> SpanShade for Batched<'_, S> {
 pub(crate) struct SteppedSpan<'s, S: Shader> {
     pub shader: &'s S,
     pub tri: &'s Stepped<S::Stepped>,
+    /// The framebuffer's largest intensity.
+    pub ceiling: f32,
 }
 
 impl<S: Shader> SpanShade for SteppedSpan<'_, S> {
@@ -176,7 +181,10 @@ impl<S: Shader> SpanShade for SteppedSpan<'_, S> {
             y: F32x1(y as f32 + 0.5),
         };
         let v = one_lane(a, w, lanes(interpolated::<S>()));
-        c[idx] = first(self.shader.stepped_pixel(&self.tri.data, &q, &v, &at));
+        c[idx] = first(
+            self.shader.stepped_pixel(&self.tri.data, &q, &v, &at),
+            self.ceiling,
+        );
     }
     #[inline(always)]
     fn step(d: &mut Self::Span) {

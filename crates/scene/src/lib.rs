@@ -109,8 +109,13 @@ pub struct RenderSettings {
     pub shading: ShadingChoice,
     /// PNG encoding (sRGB unless set).
     pub encoding: Encoding,
-    /// Clear colour (black unless set).
+    /// Clear colour (black unless set), linear, not multiplied by its opacity.
     pub background: Vec3,
+    /// Opacity of the background in `[0, 1]` (1 unless set: `background = [r, g, b, a]`, or
+    /// `"transparent"` for black at 0). A frame is cleared to `background` times it, so that
+    /// the image holds colours premultiplied by its opacity
+    /// ([`phosphor_raster::Framebuffer::alpha`]).
+    pub background_alpha: f32,
     /// Perspective-correct interpolation (on unless set).
     pub perspective_correct: bool,
     /// Which back faces to skip (`auto` unless set: only where that cannot change a pixel).
@@ -154,6 +159,7 @@ impl Default for RenderSettings {
             shading: ShadingChoice::Auto,
             encoding: Encoding::Srgb,
             background: Vec3::ZERO,
+            background_alpha: 1.0,
             perspective_correct: true,
             cull_backfaces: CullChoice::Auto,
             antialias: Antialias::Off,

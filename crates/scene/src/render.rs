@@ -101,7 +101,8 @@ pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
             .unwrap_or(scene.settings.perspective_correct),
         // Decided per object by the plan (`PlannedObject::cull_backfaces`).
         cull_backfaces: false,
-        background: scene.settings.background,
+        // Premultiplied: a pixel's colour and its opacity are averaged alike.
+        background: scene.settings.background * scene.settings.background_alpha,
         antialias: opts.antialias.unwrap_or(scene.settings.antialias),
         gouraud_vertex_clamp: opts
             .gouraud_vertex_clamp

@@ -683,6 +683,49 @@ fn gouraud_clamp_is_a_render_setting_checked_by_field() {
 }
 
 #[test]
+fn background_takes_an_opacity_checked_by_field_and_saved() {
+    let s = Scene::parse("", "t.toml").unwrap();
+    assert_eq!(
+        (s.settings.background, s.settings.background_alpha),
+        (Vec3::ZERO, 1.0)
+    );
+    let s = Scene::parse("[render]\nbackground = [0.2, 0.4, 0.6, 0.5]\n", "t.toml").unwrap();
+    assert_eq!(s.settings.background, Vec3::new(0.2, 0.4, 0.6));
+    assert_eq!(s.settings.background_alpha, 0.5);
+    // The clear is premultiplied: colour times opacity.
+    let opts = raster_options(&s, &FrameOptions::default());
+    assert_eq!(opts.background, Vec3::new(0.1, 0.2, 0.3));
+    // Saved with its opacity, and read back the same.
+    let text = scene_to_toml(&s);
+    assert!(text.contains("background = [0.2, 0.4, 0.6, 0.5]"), "{text}");
+    let again = Scene::parse(&text, "saved.toml").unwrap();
+    assert_eq!(again.settings, s.settings);
+    let s = Scene::parse("[render]\nbackground = \"transparent\"\n", "t.toml").unwrap();
+    assert_eq!(
+        (s.settings.background, s.settings.background_alpha),
+        (Vec3::ZERO, 0.0)
+    );
+    let s = Scene::parse("[render]\nbackground = [1, 1, 1]\n", "t.toml").unwrap();
+    assert_eq!(
+        (s.settings.background, s.settings.background_alpha),
+        (Vec3::ONE, 1.0)
+    );
+    assert!(!scene_to_toml(&s).contains("background = [1.0, 1.0, 1.0, 1.0]"));
+    for (bad, says) in [
+        ("[0, 0, 0, 1.5]", "alpha must be in [0, 1], got 1.5"),
+        ("[0, 0, 0, -0.1]", "alpha must be in [0, 1]"),
+        ("[-1, 0, 0, 1]", "colour must be non-negative"),
+        ("[0, 0, 0, nan]", "must be finite"),
+        ("\"clear\"", "\"transparent\""),
+        ("[0, 0]", "expected 3 numbers"),
+    ] {
+        let e = err(&format!("[render]\nbackground = {bad}\n"));
+        assert!(e.starts_with("t.toml: render.background"), "{bad}: {e}");
+        assert!(e.contains(says), "{bad}: {e}");
+    }
+}
+
+#[test]
 fn ka_kd_gives_the_notes_ambient_term_ia_kd() {
     // No lights: every covered pixel is I = Ia Kd = 0.5 * (0.8, 0.6, 0.4).
     let scene = Scene::parse(

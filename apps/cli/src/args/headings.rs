@@ -23,10 +23,11 @@ mod tests {
             | "no_smoothing_groups"
             | "split_by_material" => NORMALS_HEADING,
             "cull" | "aa" | "size" | "threads" | "fast_phong" | "interpolation" | "simd"
-            | "shadows" => RENDERING_HEADING,
+            | "shadows" | "background" | "wireframe" => RENDERING_HEADING,
             "shading" if subcommand == "bench" => MEASURING_HEADING,
             "shading" => RENDERING_HEADING,
-            "output" | "encoding" | "force" | "plan" | "out_dir" | "csv" => OUTPUT_HEADING,
+            "output" | "encoding" | "force" | "plan" | "out_dir" | "csv" | "exposure"
+            | "tone_map" => OUTPUT_HEADING,
             "turntable" | "time" | "fps" => SEQUENCE_HEADING,
             "frames" if subcommand == "render" => SEQUENCE_HEADING,
             "frames" => MEASURING_HEADING,
@@ -78,6 +79,9 @@ mod tests {
                 .to_owned()
         };
         assert_eq!(section("      --force"), "Output:");
+        assert_eq!(section("      --exposure "), "Output:");
+        assert_eq!(section("      --tone-map "), "Output:");
+        assert_eq!(section("      --background "), "Rendering:");
         assert_eq!(section("      --aa "), "Rendering:");
         assert_eq!(section("      --frames "), "Sequences:");
         assert!(section("      --eye ").starts_with("Camera"));

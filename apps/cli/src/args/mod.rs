@@ -12,7 +12,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 use phosphor_args::{
-    CameraArgs, INPUT_HEADING, NormalArgs, OUTPUT_HEADING, RENDERING_HEADING, parse_antialias,
+    Background, CameraArgs, INPUT_HEADING, NormalArgs, OUTPUT_HEADING, RENDERING_HEADING,
+    parse_antialias, parse_background,
 };
 use phosphor_raster::Antialias;
 use phosphor_scene::ShadingChoice;
@@ -49,7 +50,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (or a mesh in the standard scene S1) to a PNG or EXR file.
     #[command(
-        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render assets/scenes/s1.toml --shading fast-phong --fast-phong fit -o fit.png\n  phosphor render assets/scenes/s1.toml --shading gouraud --interpolation incremental -o inc.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.exr\n  phosphor render assets/scenes/s1.toml --plan    (print the frame plan only)\n  phosphor render --mesh assets/meshes/cube.obj --azimuth 45 --elevation 30 -o cube.png\n  phosphor render --mesh assets/meshes/teapot.obj --view top --ortho -o top.png\n  phosphor render assets/scenes/default.toml --eye 4,2,4 --target 0,0.5,0 --fov 35 -o view.png\n  phosphor render assets/scenes/s1.toml --turntable 36 -o out/frame_%04d.png   (makes out/)\n  phosphor render assets/scenes/s1.toml --turntable 36 --frames 0..18 -o out/frame_%04d.png\n  phosphor render assets/scenes/s1.toml -o - > frame.png   (one PNG on standard output)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear, tagged as such) or\n.exr (linear f32). Each file is written whole or not at all: on any error (a full disk too)\nan existing file is left untouched. Missing folders of the output are made, once the frame\nis drawn. A symbolic link is written through; a read-only file, a device or a FIFO only\nwith --force."
+        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render assets/scenes/s1.toml --shading fast-phong --fast-phong fit -o fit.png\n  phosphor render assets/scenes/s1.toml --shading gouraud --interpolation incremental -o inc.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.png\n  phosphor render --mesh assets/meshes/teapot.obj --background transparent --aa msaa16 -o thumb.png\n  phosphor render assets/scenes/default.toml -o hdr.exr   (values above 1 kept)\n  phosphor render assets/scenes/default.toml --exposure -1 --tone-map aces -o aces.png\n  phosphor render assets/scenes/s1.toml --plan    (print the frame plan only)\n  phosphor render --mesh assets/meshes/cube.obj --azimuth 45 --elevation 30 -o cube.png\n  phosphor render --mesh assets/meshes/bunny_small.obj --wireframe=1,1,1 -o wire.png\n  phosphor render --mesh assets/meshes/teapot.obj --view top --ortho -o top.png\n  phosphor render assets/scenes/default.toml --eye 4,2,4 --target 0,0.5,0 --fov 35 -o view.png\n  phosphor render assets/scenes/s1.toml --turntable 36 -o out/frame_%04d.png   (makes out/)\n  phosphor render assets/scenes/s1.toml --turntable 36 --frames 0..18 -o out/frame_%04d.png\n  phosphor render assets/scenes/s1.toml -o - > frame.png   (one PNG on standard output)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear, tagged as such; RGBA\nover a background that is not opaque) or .exr (linear f32, values above 1 kept). Each file\nis written whole or not at all: on any error (a full disk too) an existing file is left\nuntouched. Missing folders of the output are made, once the frame is drawn. A symbolic link\nis written through; a read-only file, a device or a FIFO only with --force."
     )]
     Render(RenderArgs),
     /// Render in every mode, compare each with `reference`, and print a table of errors and times.
@@ -133,9 +134,55 @@ pub struct RenderArgs {
     /// Worker threads; 0 = all cores; at most 4 per core (overrides the scene file).
     #[arg(long, help_heading = RENDERING_HEADING, value_name = "N")]
     pub threads: Option<usize>,
+    /// Background, overriding the scene's `render.background`: a linear colour R,G,B (as in
+    /// a scene file), R,G,B,A with an opacity A in [0, 1], or `transparent`. Where it is not
+    /// opaque, PNG gets an alpha channel (the share of each pixel's samples the geometry
+    /// covers, over the background's opacity) and EXR an A channel.
+    #[arg(
+        long,
+        help_heading = RENDERING_HEADING,
+        value_name = "R,G,B|transparent",
+        allow_hyphen_values = true,
+        value_parser = parse_background
+    )]
+    pub background: Option<Background>,
     /// PNG encoding (overrides the scene file; EXR is always linear).
     #[arg(long, help_heading = OUTPUT_HEADING, value_enum, value_name = "srgb|linear")]
     pub encoding: Option<EncodingArg>,
+    /// Exposure in stops: intensities are scaled by 2^EV before they are written (PNG and
+    /// EXR). Either this or --tone-map keeps intensities above 1 in the frame.
+    #[arg(
+        long,
+        help_heading = OUTPUT_HEADING,
+        value_name = "EV",
+        default_value = "0",
+        allow_hyphen_values = true,
+        value_parser = parse_exposure
+    )]
+    pub exposure: f32,
+    /// How PNG brings intensities above 1 into range: `clamp` clips them (the default, the
+    /// picture of earlier versions), `reinhard` is x/(1+x), `aces` Narkowicz 2015's fit of
+    /// the ACES filmic curve (docs/outputs.md). EXR keeps them as they are.
+    #[arg(
+        long,
+        help_heading = OUTPUT_HEADING,
+        value_enum,
+        value_name = "clamp|reinhard|aces",
+        default_value = "clamp"
+    )]
+    pub tone_map: ToneMapArg,
+    /// Draw every triangle's edges as one-pixel lines over the picture where they are seen
+    /// (depth-tested): black, or the linear colour given as `--wireframe=R,G,B`.
+    #[arg(
+        long,
+        help_heading = RENDERING_HEADING,
+        value_name = "R,G,B",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "0,0,0",
+        value_parser = parse_wire_color
+    )]
+    pub wireframe: Option<phosphor_math::glam::Vec3>,
     /// Variants of fast-phong, gouraud and phong.
     #[command(flatten)]
     pub variants: VariantArgs,

@@ -296,3 +296,55 @@ pub fn parse_fps(text: &str) -> Result<f64, String> {
         )),
     }
 }
+
+/// Largest `--exposure` in stops either way: `2^64` keeps [`phosphor_raster::framebuffer::HDR_MAX`]
+/// times the scale a finite `f32`.
+pub const MAX_EXPOSURE: f32 = 64.0;
+
+/// `--exposure`: stops, a finite number in `[-64, 64]`.
+///
+/// # Errors
+/// A message naming what was expected.
+pub fn parse_exposure(text: &str) -> Result<f32, String> {
+    match text.trim().parse::<f32>() {
+        Ok(ev) if ev.is_finite() && ev.abs() <= MAX_EXPOSURE => Ok(ev),
+        _ => Err(format!(
+            "expected stops, a finite number from -{MAX_EXPOSURE} to {MAX_EXPOSURE} such as -1.5, got `{text}`"
+        )),
+    }
+}
+
+/// `--tone-map`: how PNG brings intensities above 1 into range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ToneMapArg {
+    /// Clip at 1 (what every earlier version wrote).
+    Clamp,
+    /// Reinhard 2002: x / (1 + x).
+    Reinhard,
+    /// Narkowicz 2015's fit of the ACES filmic curve.
+    Aces,
+}
+
+impl ToneMapArg {
+    /// The raster crate's curve.
+    #[must_use]
+    pub fn tone_map(self) -> phosphor_raster::ToneMap {
+        match self {
+            ToneMapArg::Clamp => phosphor_raster::ToneMap::Clamp,
+            ToneMapArg::Reinhard => phosphor_raster::ToneMap::Reinhard,
+            ToneMapArg::Aces => phosphor_raster::ToneMap::Aces,
+        }
+    }
+}
+
+/// `--wireframe=R,G,B`: a linear colour, three finite non-negative numbers.
+///
+/// # Errors
+/// A message naming what was expected.
+pub fn parse_wire_color(text: &str) -> Result<phosphor_math::glam::Vec3, String> {
+    match phosphor_args::parse_background(text) {
+        Ok(b) if b.alpha == 1.0 && text.split(',').count() == 3 => Ok(b.color),
+        Ok(_) => Err(format!("expected R,G,B, got `{text}`")),
+        Err(e) => Err(e.replace("R,G,B, R,G,B,A or transparent", "R,G,B")),
+    }
+}

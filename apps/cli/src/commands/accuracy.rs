@@ -536,9 +536,9 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let save = |fb: &Framebuffer, row: Row| -> Result<(), CliError> {
         match &out_dir {
             Some(dir) => write_image(
-                fb,
+                (fb, fb.color()),
                 &dir.join(format!("{}.png", row.file)),
-                encoding,
+                &crate::output::Look::plain(encoding),
                 args.force,
                 &mut |_| {},
             ),

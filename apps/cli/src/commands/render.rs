@@ -11,11 +11,13 @@ use phosphor_scene::{FrameOptions, render_frame};
 
 use super::{framebuffer, size_field};
 use crate::CliError;
-use crate::args::{EncodingArg, RenderArgs};
+use crate::args::{EncodingArg, RenderArgs, ToneMapArg};
 use crate::folders::{make_missing, missing_folders, remove_empty};
 use crate::frames::{Output, animation_frames, frames_to_render, output_for};
 use crate::limits::{FRAMEBUFFER_BYTES_PER_PIXEL, check_memory, sample_bytes_per_pixel, threads};
-use crate::output::{check_output, format_of, is_stdout, write_image, write_png_to_stdout};
+use crate::output::{
+    Format, Look, check_output, format_of, is_stdout, write_image, write_png_to_stdout,
+};
 use crate::progress::{Progress, QUIET_FOR, set_fraction};
 use crate::view::prepare;
 
@@ -73,11 +75,24 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             )));
         }
     }
+    let format = match &output {
+        Output::Files(pattern) => format_of(&pattern.path(frames.start))?,
+        Output::Stdout | Output::None => Format::Png,
+    };
+    if format == Format::Exr && args.tone_map != ToneMapArg::Clamp {
+        return Err(CliError::Usage(format!(
+            "--tone-map {}: applies to PNG only; EXR keeps intensities above 1 as they are",
+            args.tone_map.tone_map()
+        )));
+    }
     let mut progress = Progress::new();
     let sequence = (frames.len() > 1).then(|| progress.counter("frames", frames.len() as u64));
     let stage = progress.fraction("loading (stage 1 of 3)");
     progress.show_after(QUIET_FOR);
     let (mut scene, width, height) = prepare(&args.source, &args.camera, args.size)?;
+    if let Some(background) = args.background {
+        background.apply(&mut scene);
+    }
     let load_time = started.elapsed();
     // The PNG and EXR encoders stream rows and blocks: the framebuffer is the image's cost.
     check_memory(
@@ -103,6 +118,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     // The render's time counts its framebuffer: allocating and clearing it is part of the work.
     let alloc_start = Instant::now();
     let mut fb = framebuffer(width, height)?;
+    let look = Look {
+        encoding,
+        scale: args.exposure.exp2(),
+        tone_map: args.tone_map.tone_map(),
+        background_alpha: scene.settings.background_alpha,
+    };
+    fb.set_hdr(look.needs_hdr(format));
     let alloc_time = alloc_start.elapsed();
     let home = scene.camera();
     let start_time = args.time.unwrap_or(0.0);
@@ -141,6 +163,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         );
         let render_start = Instant::now();
         let report = render_frame(&scene, &mut fb, &opts);
+        // The overlay goes into a copy of the colours; the frame itself stays as drawn.
+        let wired = args.wireframe.map(|color| {
+            let items = phosphor_scene::draw_items(&report.plan);
+            crate::wireframe::overlay(&fb, &scene.camera(), &items, color).0
+        });
+        let colour = wired.as_deref().unwrap_or(fb.color());
         let mut render_time = render_start.elapsed();
         if index == 0 {
             render_time += alloc_time;
@@ -173,7 +201,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
             Output::None => None,
             Output::Stdout => {
                 // Standard output holds the image and nothing else.
-                write_png_to_stdout(&fb, encoding)?;
+                write_png_to_stdout(&fb, colour, &look)?;
                 None
             }
             Output::Files(pattern) => {
@@ -186,7 +214,7 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                     Ok(())
                 };
                 let written = checked.and_then(|()| {
-                    write_image(&fb, &out, encoding, args.force, &mut |f| {
+                    write_image((&fb, colour), &out, &look, args.force, &mut |f| {
                         set_fraction(&stage, &label, (2.0 + f) / 3.0);
                     })
                 });

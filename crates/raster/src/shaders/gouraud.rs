@@ -48,6 +48,6 @@ pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
         return super::tinted::draw_gouraud(frame, d);
     }
     let lit = Lit::new(d.lights, d.material, d.effects, frame.eye());
-    let vertex_clamp = frame.options().gouraud_vertex_clamp;
+    let vertex_clamp = frame.options().gouraud_vertex_clamp && !frame.hdr();
     crate::with_fx!(d.effects, FX => frame.draw(&d.mesh, d.model, &Gouraud::<FX> { lit, vertex_clamp }, d.cull_backfaces));
 }

@@ -311,7 +311,7 @@ pub(crate) fn draw_flat(frame: &mut crate::Frame, d: &crate::DrawItem) {
 /// Draws tinted `d` with Gouraud shading.
 pub(crate) fn draw_gouraud(frame: &mut crate::Frame, d: &crate::DrawItem) {
     let lit = Lit::new(d.lights, d.material, d.effects, frame.eye());
-    let vertex_clamp = frame.options().gouraud_vertex_clamp;
+    let vertex_clamp = frame.options().gouraud_vertex_clamp && !frame.hdr();
     let (mesh, model, cull) = (&d.mesh, d.model, d.cull_backfaces);
     match d.texture {
         Some(texture) => crate::with_fx!(d.effects, FX => frame.draw(

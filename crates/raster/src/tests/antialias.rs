@@ -157,3 +157,86 @@ fn multisampled_phong_shades_inside_pixels_once_at_their_centre() {
         assert!(stats.pixels_shaded < off_stats.pixels_shaded * samples / 2);
     }
 }
+
+#[test]
+fn coverage_is_the_share_of_drawn_samples_and_hdr_keeps_intensities_above_one() {
+    let cam = Camera::s1();
+    let size = (40, 30);
+    let mesh = quad(&cam, size, (5.3, 4.6, 33.7, 25.2));
+    // A directional light of intensity 3 along the view: diffuse well above 1 (Gouraud's
+    // vertex clamp, on by default, applies only to a framebuffer that clamps at 1).
+    let lights = LightSet::new(
+        Vec3::ZERO,
+        &[Light::directional(-Vec3::Z, Vec3::splat(3.0)).unwrap()],
+    );
+    let material = Material::s1();
+    for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
+        let mut draw = item(&mesh, &material, &lights, mode);
+        draw.effects = Effects::DIFFUSE;
+        let draws = [draw];
+        for aa in Antialias::ALL {
+            let opts = RenderOptions {
+                antialias: aa,
+                threads: 1,
+                ..RenderOptions::default()
+            };
+            let mut unit = crate::Framebuffer::new(size.0, size.1).unwrap();
+            crate::render(&mut unit, &cam, &draws, &opts);
+            let mut hdr = crate::Framebuffer::new(size.0, size.1).unwrap();
+            hdr.set_hdr(true);
+            assert!(hdr.hdr() && !unit.hdr());
+            crate::render(&mut hdr, &cam, &draws, &opts);
+            let centre = hdr.pixel(20, 15);
+            assert!(centre.x > 1.0, "{mode} {aa}: {centre}");
+            assert_eq!(unit.pixel(20, 15), Vec3::ONE, "{mode} {aa}");
+            assert!(
+                hdr.color()
+                    .iter()
+                    .all(|c| c.is_finite() && c.min_element() >= 0.0)
+            );
+            let coverage = hdr.coverage();
+            assert_eq!(coverage, unit.coverage(), "{mode} {aa}");
+            let n = aa.samples() as f32;
+            let mut partial = 0;
+            for y in 0..size.1 {
+                for x in 0..size.0 {
+                    let a = coverage[(y * size.0 + x) as usize];
+                    assert_eq!((a * n).round(), a * n, "{mode} {aa} ({x}, {y}): {a}");
+                    // Where nothing is drawn the pixel is the (black) clear, and the reverse.
+                    assert_eq!(a == 0.0, hdr.pixel(x, y) == Vec3::ZERO, "({x}, {y})");
+                    if a > 0.0 && a < 1.0 {
+                        partial += 1;
+                    }
+                }
+            }
+            assert_eq!(coverage[0], 0.0);
+            assert_eq!(coverage[(15 * size.0 + 20) as usize], 1.0);
+            // The left edge at x = 5.3 covers 0.7 of column 5: its centre (5.5), half or
+            // three quarters of its samples on the 2 x 2 and 4 x 4 grids.
+            let left = coverage[(15 * size.0 + 5) as usize];
+            let want = match aa.factor() {
+                1 => 1.0,
+                2 => 0.5,
+                _ => 0.75,
+            };
+            assert_eq!(left, want, "{mode} {aa}");
+            assert_eq!(partial > 0, aa != Antialias::Off, "{mode} {aa}");
+        }
+    }
+}
+
+#[test]
+fn switching_the_range_redraws_the_clear_in_the_new_range() {
+    let mut fb = crate::Framebuffer::new(4, 3).unwrap();
+    fb.clear(Vec3::new(2.0, 0.5, f32::INFINITY));
+    assert_eq!(fb.pixel(1, 1), Vec3::new(1.0, 0.5, 1.0));
+    fb.set_hdr(true);
+    fb.clear(Vec3::new(2.0, 0.5, f32::INFINITY));
+    assert_eq!(
+        fb.pixel(3, 2),
+        Vec3::new(2.0, 0.5, crate::framebuffer::HDR_MAX)
+    );
+    fb.set_hdr(false);
+    fb.clear(Vec3::new(2.0, 0.5, f32::NAN));
+    assert_eq!(fb.pixel(0, 0), Vec3::new(1.0, 0.5, 0.0));
+}

@@ -142,6 +142,7 @@ fn by_pixel_shading_reproduces_the_closed_form_of_the_nearest_triangle() {
         n: 1,
         perspective: false,
         block: 1,
+        ceiling: 1.0,
     };
     let n = pass.shade::<4>(&mut color, |a, _| a.map(|a| Vec3::splat(a[0])));
     let owned: Vec<usize> = (0..2)

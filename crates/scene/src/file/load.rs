@@ -248,8 +248,9 @@ fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
             &[("srgb", Encoding::Srgb), ("linear", Encoding::Linear)],
         )?;
     }
-    if let Some(b) = r.color("background")? {
+    if let Some((b, a)) = r.color_alpha("background")? {
         s.background = b;
+        s.background_alpha = a;
     }
     if let Some(p) = r.bool("perspective_correct")? {
         s.perspective_correct = p;

@@ -292,6 +292,43 @@ impl<'a> Fields<'a> {
         Ok(c)
     }
 
+    /// A colour with an opacity: `"transparent"` (black, 0), four numbers `[r, g, b, a]`
+    /// (colour non-negative, `a` in `[0, 1]`), or a colour as [`Fields::color`] reads it
+    /// (opacity 1).
+    pub(crate) fn color_alpha(&self, key: &'a str) -> Result<Option<(Vec3, f32)>, SceneError> {
+        match self.table.get(key) {
+            Some(Value::String(s)) if s == "transparent" => {
+                self.get(key);
+                Ok(Some((Vec3::ZERO, 0.0)))
+            }
+            Some(Value::String(s)) => {
+                self.get(key);
+                Err(self.error(
+                    key,
+                    format!("expected 3 or 4 numbers or \"transparent\", got \"{s}\""),
+                ))
+            }
+            Some(Value::Array(items)) if items.len() == 4 => {
+                let v = self.f32s(key)?.unwrap_or_default();
+                let (rgb, a) = (Vec3::new(v[0], v[1], v[2]), v[3]);
+                if rgb.min_element() < 0.0 {
+                    return Err(self.error(
+                        key,
+                        format!(
+                            "colour must be non-negative, got [{}, {}, {}]",
+                            v[0], v[1], v[2]
+                        ),
+                    ));
+                }
+                if !(0.0..=1.0).contains(&a) {
+                    return Err(self.error(key, format!("alpha must be in [0, 1], got {a}")));
+                }
+                Ok(Some((rgb, a)))
+            }
+            _ => Ok(self.color(key)?.map(|c| (c, 1.0))),
+        }
+    }
+
     /// A sub-table.
     pub(crate) fn table(&self, key: &'a str) -> Result<Option<Fields<'a>>, SceneError> {
         match self.get(key) {

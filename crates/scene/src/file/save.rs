@@ -49,7 +49,13 @@ fn render_table(r: &RenderSettings) -> Table {
             Encoding::Linear => "linear",
         }),
     );
-    t.insert("background".into(), v3(r.background));
+    let background = if r.background_alpha == 1.0 {
+        v3(r.background)
+    } else {
+        let [x, y, z] = r.background.to_array();
+        Value::Array([x, y, z, r.background_alpha].map(f).to_vec())
+    };
+    t.insert("background".into(), background);
     t.insert(
         "perspective_correct".into(),
         Value::Boolean(r.perspective_correct),
