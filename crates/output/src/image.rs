@@ -122,6 +122,14 @@ fn srgb_chromaticities() -> png::SourceChromaticities {
     }
 }
 
+/// The EXR encoder's error as a message: an I/O failure of the sink as itself.
+fn exr_error(e: exr::error::Error) -> String {
+    match e {
+        exr::error::Error::Io(io) => io.to_string(),
+        other => format!("EXR encoder: {other}"),
+    }
+}
+
 /// Encodes a linear f32 RGB OpenEXR of `width` x `height` into `sink`; `pixel(x, y)` gives the
 /// colour at column `x`, row `y` (row 0 at the top); `progress` receives the fraction done.
 ///
@@ -145,10 +153,7 @@ pub fn encode_exr(
         .non_parallel()
         .on_progress(progress)
         .to_buffered(sink)
-        .map_err(|e| match e {
-            exr::error::Error::Io(io) => io.to_string(),
-            other => format!("EXR encoder: {other}"),
-        })
+        .map_err(exr_error)
 }
 
 /// Encodes a linear f32 RGBA OpenEXR: [`encode_exr`] with alpha, `pixel(x, y)` giving
@@ -174,10 +179,7 @@ pub fn encode_exr_rgba(
         .non_parallel()
         .on_progress(progress)
         .to_buffered(sink)
-        .map_err(|e| match e {
-            exr::error::Error::Io(io) => io.to_string(),
-            other => format!("EXR encoder: {other}"),
-        })
+        .map_err(exr_error)
 }
 
 /// Writes an 8-bit RGB PNG to `path` through [`write_file`]; see [`encode_png`].

@@ -104,8 +104,9 @@ fn sphere_umbra_matches_closed_form_and_tightens_with_size() {
     assert!(errors[2] < errors[0], "error does not shrink: {errors:?}");
 }
 
-#[test]
-fn spot_and_point_lights_cast_below_their_caster() {
+/// A cube of half-side 0.25 centred 1 above the floor: mesh, model, bounds, and the floor's
+/// bounds.
+fn cube_over_floor() -> (Mesh, Mat4, Sphere, Sphere) {
     let cube = phosphor_mesh::primitives::cube(0.25);
     let model = Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0));
     let bounds = Sphere {
@@ -116,6 +117,12 @@ fn spot_and_point_lights_cast_below_their_caster() {
         center: Vec3::ZERO,
         radius: 3.0,
     };
+    (cube, model, bounds, floor)
+}
+
+#[test]
+fn spot_and_point_lights_cast_below_their_caster() {
+    let (cube, model, bounds, floor) = cube_over_floor();
     let lights = [
         LightShape::Spot {
             position: Vec3::new(0.0, 3.0, 0.0),
@@ -386,16 +393,7 @@ fn visibility_by_definition(map: &ShadowMap, p: Vec3, n: Vec3) -> f32 {
 #[test]
 fn lane_lookup_is_the_definition_bit_for_bit() {
     use phosphor_lighting::{Vec3s, f32x4};
-    let cube = phosphor_mesh::primitives::cube(0.25);
-    let model = Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0));
-    let bounds = Sphere {
-        center: Vec3::new(0.0, 1.0, 0.0),
-        radius: 0.25 * 3f32.sqrt(),
-    };
-    let floor = Sphere {
-        center: Vec3::ZERO,
-        radius: 3.0,
-    };
+    let (cube, model, bounds, floor) = cube_over_floor();
     let lights = [
         LightShape::Directional {
             direction: Vec3::new(0.3, -1.0, 0.2).normalize(),

@@ -8,20 +8,12 @@ use glam::Vec3;
 use phosphor_lighting::{F32x1, Lanes, Vec3s};
 
 use super::{BIAS_CONSTANT, BIAS_SLOPE, MAX_BIAS_SLOPE, Projection, ShadowMap};
+use crate::texture::floor;
 
 /// Texels of padding on every side of a stored map, each `f32::MAX` (no caster, so always
 /// lit): the footprint of any point the lookup accepts (texel coordinates within
 /// `(-3, size + 2)`, taps one before to two after) stays inside the padded array.
 pub(super) const PAD: usize = 5;
-
-/// `floor(x)` for `|x| <= 2^22`: adding and taking away `1.5 * 2^23` rounds to the nearest
-/// integer, one less where that went up.
-#[inline(always)]
-fn floor<L: Lanes>(x: L) -> L {
-    let magic = x.splat(12_582_912.0);
-    let r = (x + magic) - magic;
-    r.cmp_le(x).blend(r, r - x.splat(1.0))
-}
 
 /// All ones in every lane.
 #[inline(always)]

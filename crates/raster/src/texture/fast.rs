@@ -28,7 +28,7 @@ fn finite<L: Lanes>(x: L) -> L {
 /// `floor(x)` for `|x| <= 2^22`: adding and taking away `1.5 * 2^23` rounds to the nearest
 /// integer, one less where that went up.
 #[inline(always)]
-fn floor<L: Lanes>(x: L) -> L {
+pub(crate) fn floor<L: Lanes>(x: L) -> L {
     let magic = x.splat(12_582_912.0);
     let r = (x + magic) - magic;
     r.cmp_le(x).blend(r, r - x.splat(1.0))

@@ -34,6 +34,8 @@ use glam::{DVec3, Vec3};
 mod chain;
 mod fast;
 
+pub(crate) use fast::floor;
+
 use chain::Chain;
 
 /// Largest side of a texture, in texels (the image crate's and most GPUs' limit).
