@@ -120,10 +120,10 @@ fn cube_over_floor() -> (Mesh, Mat4, Sphere, Sphere) {
     (cube, model, bounds, floor)
 }
 
-#[test]
-fn spot_and_point_lights_cast_below_their_caster() {
-    let (cube, model, bounds, floor) = cube_over_floor();
-    let lights = [
+/// A spot light straight above the cube of [`cube_over_floor`], and a point light above and
+/// to the side.
+fn spot_and_point() -> [LightShape; 2] {
+    [
         LightShape::Spot {
             position: Vec3::new(0.0, 3.0, 0.0),
             direction: -Vec3::Y,
@@ -132,8 +132,13 @@ fn spot_and_point_lights_cast_below_their_caster() {
         LightShape::Point {
             position: Vec3::new(1.0, 3.0, 0.0),
         },
-    ];
-    for light in lights {
+    ]
+}
+
+#[test]
+fn spot_and_point_lights_cast_below_their_caster() {
+    let (cube, model, bounds, floor) = cube_over_floor();
+    for light in spot_and_point() {
         let map = map_of(&light, &[(&cube, model, bounds)], floor, 256);
         let from = match light {
             LightShape::Spot { position, .. } | LightShape::Point { position } => position,
@@ -394,19 +399,11 @@ fn visibility_by_definition(map: &ShadowMap, p: Vec3, n: Vec3) -> f32 {
 fn lane_lookup_is_the_definition_bit_for_bit() {
     use phosphor_lighting::{Vec3s, f32x4};
     let (cube, model, bounds, floor) = cube_over_floor();
-    let lights = [
-        LightShape::Directional {
-            direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
-        },
-        LightShape::Spot {
-            position: Vec3::new(0.0, 3.0, 0.0),
-            direction: -Vec3::Y,
-            outer_deg: 40.0,
-        },
-        LightShape::Point {
-            position: Vec3::new(1.0, 3.0, 0.0),
-        },
-    ];
+    let [spot, point] = spot_and_point();
+    let directional = LightShape::Directional {
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+    };
+    let lights = [directional, spot, point];
     // Normals: up, grazing, facing away, zero, NaN, huge.
     let normals = [
         Vec3::Y,
