@@ -5,13 +5,14 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use phosphor_lighting::{Light, Material};
-use phosphor_mesh::NormalOptions;
+use phosphor_mesh::{MAX_MESH_FILE_BYTES, MeshError, MeshFormat, NormalOptions};
 use phosphor_raster::{Camera, Encoding};
 
 use crate::components::{
-    MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, SceneMesh, Transform,
+    GltfRoot, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name, SceneMesh, Transform,
 };
 use crate::error::SceneError;
+use crate::file::gltf_nodes::{load_gltf, spawn_nodes};
 use crate::file::load::{Files, parse_scene};
 use crate::{RenderSettings, Scene};
 
@@ -86,6 +87,9 @@ impl Scene {
     /// # Errors
     /// The mesh's error (file and line).
     pub fn s1_lights_with_mesh(path: &Path, normals: NormalOptions) -> Result<Scene, SceneError> {
+        if MeshFormat::from_path(path) == MeshFormat::Gltf {
+            return Scene::s1_lights_with_gltf(path, normals);
+        }
         let (mut mesh, warnings) =
             phosphor_mesh::load_mesh_with_warnings(path, &normals).map_err(|source| {
                 SceneError::Mesh {
@@ -111,9 +115,66 @@ impl Scene {
         Ok(Scene::s1_around(mesh, warnings))
     }
 
+    /// S1's lights around a glTF file's node hierarchy (`crate::file::gltf_nodes`): a root
+    /// named `mesh`, the nodes below it, the whole fitted into the unit sphere, posed at
+    /// time 0.
+    fn s1_lights_with_gltf(path: &Path, normals: NormalOptions) -> Result<Scene, SceneError> {
+        let fail = |source| SceneError::Mesh {
+            file: "S1".to_owned(),
+            field: "--mesh".to_owned(),
+            source,
+        };
+        let file = path.display().to_string();
+        let bytes = phosphor_mesh::read_file(path, MAX_MESH_FILE_BYTES).map_err(|source| {
+            fail(MeshError::Io {
+                file: file.clone(),
+                source,
+            })
+        })?;
+        let source = MeshSource::File {
+            written: file.clone(),
+            resolved: PathBuf::from(path),
+        };
+        let read_relative = |rel: &str| phosphor_mesh::read_asset(path, rel);
+        let asset = load_gltf(&bytes, &file, &read_relative, &normals, &source).map_err(fail)?;
+        let mut s = Scene::s1_without_mesh(asset.warnings.clone());
+        let root = s.world.spawn((
+            Name("mesh".to_owned()),
+            Transform::default(),
+            GltfRoot {
+                source,
+                normals,
+                normalized: true,
+            },
+            MaterialName("s1".to_owned()),
+        ));
+        spawn_nodes(&mut s, root, "mesh", &asset, true, |s, e, _| {
+            s.world
+                .insert(e, (Material::s1(), MaterialName("s1".to_owned())))
+                .ok();
+            Ok(())
+        })?;
+        let placed = crate::animation::update(&mut s, crate::animation::Time::default());
+        s.warnings.extend(placed);
+        Ok(s)
+    }
+
     /// S1 around an already built mesh (used by [`Scene::s1_with_mesh`] and for primitives).
     #[must_use]
     pub fn s1_around(mesh: SceneMesh, warnings: Vec<String>) -> Scene {
+        let mut s = Scene::s1_without_mesh(warnings);
+        s.world.spawn((
+            Name("mesh".to_owned()),
+            Transform::default(),
+            MeshRef(Arc::new(mesh)),
+            Material::s1(),
+            MaterialName("s1".to_owned()),
+        ));
+        s
+    }
+
+    /// S1's camera, lights, material and settings, with no object.
+    fn s1_without_mesh(warnings: Vec<String>) -> Scene {
         let mut s = Scene::empty();
         s.settings = RenderSettings {
             encoding: Encoding::Linear,
@@ -132,13 +193,6 @@ impl Scene {
                 kd_map: None,
             },
         );
-        s.world.spawn((
-            Name("mesh".to_owned()),
-            Transform::default(),
-            MeshRef(Arc::new(mesh)),
-            Material::s1(),
-            MaterialName("s1".to_owned()),
-        ));
         s.warnings = warnings
             .into_iter()
             .map(|w| format!("warning: {w}"))

@@ -219,6 +219,30 @@ pub struct SceneMesh {
     pub info: MeshInfo,
 }
 
+/// On the entity a scene file's object names a glTF file with: the root of the file's node
+/// hierarchy, whose entities ([`GltfNode`]) hang below it. It has no mesh of its own; its
+/// transform and motion move the whole tree. Kept so the scene saves as it was written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GltfRoot {
+    /// The file (the path as written, and as resolved).
+    pub source: MeshSource,
+    /// The normal options its meshes were built with.
+    pub normals: NormalOptions,
+    /// Whether the whole hierarchy was fitted into the unit sphere (`normalize`).
+    pub normalized: bool,
+}
+
+/// On each entity made from a glTF node: the [`GltfRoot`] entity it belongs to and the
+/// node's index in the file. These entities come from the file, so a saved scene does not
+/// write them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GltfNode {
+    /// The root entity.
+    pub root: hecs::Entity,
+    /// The node's index (`nodes[i]`); `None` for the entity that applies `normalize`.
+    pub node: Option<usize>,
+}
+
 /// An object's mesh: an `Arc` shared by every entity that draws it.
 #[derive(Debug, Clone)]
 pub struct MeshRef(pub Arc<SceneMesh>);

@@ -79,6 +79,13 @@ impl Pose {
     }
 }
 
+/// The rest pose relative to the parent, given as a [`Pose`] (its rotation a quaternion)
+/// rather than a [`LocalTransform`]: a glTF node's, whose rotation would lose precision
+/// through Euler angles. Never changed by the systems; an entity has this or a
+/// `LocalTransform`, not both.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RestPose(pub Pose);
+
 /// Object to world this frame, as [`propagate_transforms`] composed it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GlobalTransform(pub Mat4);
@@ -94,11 +101,17 @@ pub struct LocalLight(pub LightKind);
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LocalCamera(pub Camera);
 
-/// Copies every [`LocalTransform`] into its [`Pose`]: the start of a frame, before the
-/// animation systems move the poses.
+/// Copies every [`LocalTransform`] (or [`RestPose`]) into its [`Pose`]: the start of a
+/// frame, before the animation systems move the poses.
 pub fn reset_poses(world: &mut World) {
     for (local, pose) in world.query_mut::<(&LocalTransform, &mut Pose)>() {
         *pose = Pose::from(local.0);
+    }
+    for (rest, pose) in world
+        .query_mut::<(&RestPose, &mut Pose)>()
+        .without::<&LocalTransform>()
+    {
+        *pose = rest.0;
     }
 }
 

@@ -79,8 +79,8 @@ pub mod view;
 pub use budget::{MAX_DISTRIBUTED_SAMPLES, SampleCut, limit_distributed_samples, point_samples};
 pub use builder::{LightBuilder, MaterialHandle, MeshHandle, ObjectBuilder};
 pub use components::{
-    Bump, BumpSource, CastsShadows, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name,
-    Primitive, SceneMesh, Shading, ShadingChoice, ShadowRole, Transform,
+    Bump, BumpSource, CastsShadows, GltfNode, GltfRoot, MaterialDef, MaterialName, MeshInfo,
+    MeshRef, MeshSource, Name, Primitive, SceneMesh, Shading, ShadingChoice, ShadowRole, Transform,
 };
 pub use error::SceneError;
 pub use error_bound::{ErrorBounds, shading_error_bounds};

@@ -13,16 +13,17 @@ use phosphor_mesh::primitives::{PrimitiveError, gigabytes};
 use phosphor_mesh::{MAX_MESH_FILE_BYTES, MeshFormat, NormalOptions, NormalSource, Weighting};
 use phosphor_raster::{BumpMap, Camera, Encoding, ProceduralBump, Texture, Wrap};
 
+use super::gltf_nodes::{GltfAsset, load_gltf, spawn_nodes};
 use super::motion::{MOTION_KEYS, Motion};
 use super::read::{Fields, choose};
 use crate::budget::{MAX_DISTRIBUTED_SAMPLES, limit_distributed_samples};
 use crate::components::{
-    Bump, BumpSource, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name,
+    Bump, BumpSource, GltfRoot, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name,
     PRIMITIVE_BUDGET_BYTES, Primitive, SceneMesh, Shading, ShadingChoice, Transform,
 };
 use crate::components::{CastsShadows, ShadowRole};
 use crate::error::SceneError;
-use crate::hierarchy::{LocalCamera, LocalLight};
+use crate::hierarchy::{LocalCamera, LocalLight, Parent};
 use crate::textures::{ColorMap, MapSource, checkerboard, decode, wrap_of};
 use crate::{CullChoice, RenderSettings, Scene};
 use phosphor_raster::shadow::{MAX_SHADOW_SIZE, MIN_SHADOW_SIZE};
@@ -155,24 +156,39 @@ pub fn parse_scene(
         scene.materials.insert(name.to_owned(), def);
     }
     let mut meshes: HashMap<String, Arc<SceneMesh>> = HashMap::new();
+    let mut gltfs: HashMap<String, Arc<GltfAsset>> = HashMap::new();
     let mut bumps: BTreeMap<String, Arc<BumpMap>> = BTreeMap::new();
     let mut maps: BTreeMap<String, Option<Arc<Texture>>> = BTreeMap::new();
     let mut primitive_bytes = 0u64;
-    let objects = root.tables("objects")?;
-    check_primitive_budget(&objects)?;
+    let mut objects = Vec::new();
+    nested_objects(root.tables("objects")?, None, 0, &mut objects)?;
+    check_primitive_budget(objects.iter().map(|(o, _)| o))?;
     let mut named: Vec<(String, Entity)> = Vec::new();
-    for (i, o) in objects.into_iter().enumerate() {
-        let (entity, motion) = object(
+    let mut spawned: Vec<Entity> = Vec::with_capacity(objects.len());
+    for (i, (o, outer)) in objects.into_iter().enumerate() {
+        let (entity, mut motion) = object(
             &mut scene,
             &o,
             i,
             dir,
             files,
             &mut meshes,
+            &mut gltfs,
             &mut bumps,
             &mut maps,
             &mut primitive_bytes,
         )?;
+        spawned.push(entity);
+        if let Some(&outer) = outer.and_then(|k| spawned.get(k)) {
+            if motion.parent.is_some() {
+                return Err(o.error(
+                    "parent",
+                    "a nested object's parent is the object whose `children` it is in",
+                ));
+            }
+            scene.world.insert_one(entity, Parent(outer)).ok();
+            motion.nested = true;
+        }
         if let Ok(n) = scene.world.get::<&Name>(entity) {
             named.push((n.0.clone(), entity));
         }
@@ -775,7 +791,7 @@ fn transform(t: Option<Fields<'_>>) -> Result<Transform, SceneError> {
 
 #[allow(
     clippy::too_many_arguments,
-    reason = "one object reads the scene, its folder, its files, two caches and the memory taken"
+    reason = "one object reads the scene, its folder, its files, three caches and the memory taken"
 )]
 fn object(
     scene: &mut Scene,
@@ -784,6 +800,7 @@ fn object(
     dir: &Path,
     files: &dyn Files,
     meshes: &mut HashMap<String, Arc<SceneMesh>>,
+    gltfs: &mut HashMap<String, Arc<GltfAsset>>,
     bumps: &mut BTreeMap<String, Arc<BumpMap>>,
     maps: &mut BTreeMap<String, Option<Arc<Texture>>>,
     primitive_bytes: &mut u64,
@@ -805,22 +822,37 @@ fn object(
             ));
         }
     };
-    let key = format!("{source:?}|{normals:?}|{normalize}");
-    let mesh = match meshes.get(&key) {
-        Some(m) => m.clone(),
-        None => {
-            let m = Arc::new(build_mesh(
-                scene,
-                o,
-                source,
-                normals,
-                normalize,
-                files,
-                primitive_bytes,
-            )?);
-            meshes.insert(key, m.clone());
-            m
-        }
+    let is_gltf = matches!(&source, MeshSource::File { resolved, .. }
+        if MeshFormat::from_path(resolved) == MeshFormat::Gltf);
+    let loaded = if is_gltf {
+        let key = format!("{source:?}|{normals:?}");
+        let asset = match gltfs.get(&key) {
+            Some(a) => a.clone(),
+            None => {
+                let a = Arc::new(gltf_asset(scene, o, &source, &normals, files)?);
+                gltfs.insert(key, a.clone());
+                a
+            }
+        };
+        Loaded::Gltf(asset, source)
+    } else {
+        let key = format!("{source:?}|{normals:?}|{normalize}");
+        Loaded::Mesh(match meshes.get(&key) {
+            Some(m) => m.clone(),
+            None => {
+                let m = Arc::new(build_mesh(
+                    scene,
+                    o,
+                    source,
+                    normals,
+                    normalize,
+                    files,
+                    primitive_bytes,
+                )?);
+                meshes.insert(key, m.clone());
+                m
+            }
+        })
     };
     let material_name = o.str("material")?.unwrap_or("default");
     let def = match scene.materials.get(material_name) {
@@ -874,7 +906,58 @@ fn object(
         "orbit",
         "bob",
         "animation",
+        "children",
     ])?;
+    let mesh = match loaded {
+        Loaded::Mesh(mesh) => mesh,
+        Loaded::Gltf(asset, source) => {
+            let entity = scene.world.spawn((
+                Name(name.clone()),
+                transform,
+                GltfRoot {
+                    source,
+                    normals,
+                    normalized: normalize,
+                },
+                MaterialName(material_name.to_owned()),
+            ));
+            if let Some(s) = shading {
+                scene.world.insert_one(entity, s).ok();
+            }
+            if role != ShadowRole::default() {
+                scene.world.insert_one(entity, role).ok();
+            }
+            let before = scene.warnings.len();
+            spawn_nodes(scene, entity, &name, &asset, normalize, |scene, e, mesh| {
+                scene
+                    .world
+                    .insert(e, (def.material, MaterialName(material_name.to_owned())))
+                    .ok();
+                dress(
+                    scene,
+                    o,
+                    e,
+                    mesh,
+                    (&def, material_name),
+                    (shading, role),
+                    files,
+                    bumps,
+                    maps,
+                )
+            })?;
+            // One line per distinct warning, however many nodes share a material or map.
+            let mut seen = HashSet::new();
+            let mut k = before;
+            while k < scene.warnings.len() {
+                if seen.insert(scene.warnings[k].clone()) {
+                    k += 1;
+                } else {
+                    scene.warnings.remove(k);
+                }
+            }
+            return Ok((entity, motion));
+        }
+    };
     let entity = scene.world.spawn((
         Name(name),
         transform,
@@ -882,6 +965,73 @@ fn object(
         def.material,
         MaterialName(material_name.to_owned()),
     ));
+    dress(
+        scene,
+        o,
+        entity,
+        &mesh,
+        (&def, material_name),
+        (shading, role),
+        files,
+        bumps,
+        maps,
+    )?;
+    Ok((entity, motion))
+}
+
+/// What an object's `mesh` or `primitive` loaded: one mesh, or a glTF node hierarchy (and
+/// its source).
+enum Loaded {
+    Mesh(Arc<SceneMesh>),
+    Gltf(Arc<GltfAsset>, MeshSource),
+}
+
+/// Reads the glTF file an object names as a node hierarchy; its warnings go to the scene.
+fn gltf_asset(
+    scene: &mut Scene,
+    o: &Fields<'_>,
+    source: &MeshSource,
+    normals: &NormalOptions,
+    files: &dyn Files,
+) -> Result<GltfAsset, SceneError> {
+    let MeshSource::File { resolved, .. } = source else {
+        return Err(o.error("mesh", "a glTF node hierarchy is read from a file"));
+    };
+    let shown = resolved.display().to_string();
+    let bytes = files
+        .read_bytes(resolved)
+        .map_err(|e| o.error("mesh", format!("{shown}: cannot read: {e}")))?;
+    let read_relative = |rel: &str| files.read_asset(resolved, rel);
+    let asset = load_gltf(&bytes, &shown, &read_relative, normals, source).map_err(|source| {
+        SceneError::Mesh {
+            file: o.file().to_owned(),
+            field: o.path_of("mesh"),
+            source,
+        }
+    })?;
+    scene
+        .warnings
+        .extend(asset.warnings.iter().map(|w| format!("warning: {w}")));
+    Ok(asset)
+}
+
+/// Gives an object's entity (or one glTF node's) its shading override, shadow role, bump
+/// map and colour map: what its material `def` (named `material_name`) and its mesh say.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the entity, its material, its overrides, the files and the two map caches"
+)]
+fn dress(
+    scene: &mut Scene,
+    o: &Fields<'_>,
+    entity: Entity,
+    mesh: &Arc<SceneMesh>,
+    (def, material_name): (&MaterialDef, &str),
+    (shading, role): (Option<Shading>, ShadowRole),
+    files: &dyn Files,
+    bumps: &mut BTreeMap<String, Arc<BumpMap>>,
+    maps: &mut BTreeMap<String, Option<Arc<Texture>>>,
+) -> Result<(), SceneError> {
     if let Some(s) = shading {
         scene.world.insert_one(entity, s).ok();
     }
@@ -932,13 +1082,13 @@ fn object(
             ));
         }
         scene.world.insert_one(entity, Bump(map)).ok();
-    } else if let Some(map) = mesh_normal_map(scene, o, &mesh, bumps) {
+    } else if let Some(map) = mesh_normal_map(scene, o, mesh, bumps) {
         scene.world.insert_one(entity, Bump(map)).ok();
     }
-    if let Some(map) = color_map(scene, o, material_name, &def, &mesh, files, maps) {
+    if let Some(map) = color_map(scene, o, material_name, def, mesh, files, maps) {
         scene.world.insert_one(entity, ColorMap(map)).ok();
     }
-    Ok((entity, motion))
+    Ok(())
 }
 
 /// Reads a map's encoded bytes when it is first needed.
@@ -1128,11 +1278,39 @@ fn mesh_normal_map(
     }
 }
 
+/// Deepest nesting of `children` tables.
+const MAX_NESTING: usize = 64;
+
+/// Appends `list` and, after each object, the objects of its `children` array (depth first),
+/// each with the position in `out` of the object it is nested in.
+fn nested_objects<'a>(
+    list: Vec<Fields<'a>>,
+    outer: Option<usize>,
+    depth: usize,
+    out: &mut Vec<(Fields<'a>, Option<usize>)>,
+) -> Result<(), SceneError> {
+    for o in list {
+        let children = o.tables("children")?;
+        if depth >= MAX_NESTING && !children.is_empty() {
+            return Err(o.error(
+                "children",
+                format!("objects nest at most {MAX_NESTING} deep"),
+            ));
+        }
+        out.push((o, outer));
+        let me = out.len() - 1;
+        nested_objects(children, Some(me), depth + 1, out)?;
+    }
+    Ok(())
+}
+
 /// Adds up the footprints of the scene's distinct primitives in file order and refuses the
 /// first object that takes the total over [`PRIMITIVE_BUDGET_BYTES`], before any mesh is
 /// built (building the earlier ones could take seconds and gigabytes first). A primitive
 /// that does not parse is left for [`object`] to report in its turn.
-fn check_primitive_budget(objects: &[Fields<'_>]) -> Result<(), SceneError> {
+fn check_primitive_budget<'a, 'b: 'a>(
+    objects: impl Iterator<Item = &'a Fields<'b>>,
+) -> Result<(), SceneError> {
     let mut seen = HashSet::new();
     let mut used = 0u64;
     for o in objects {

@@ -2,6 +2,7 @@
 
 pub(crate) mod bump_image;
 mod camera;
+pub mod gltf_nodes;
 pub mod load;
 mod motion;
 mod read;

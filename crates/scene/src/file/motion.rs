@@ -27,12 +27,15 @@ pub(crate) struct Motion {
     orbit: Option<Orbit>,
     bob: Option<Bob>,
     tracks: Option<Tracks>,
+    /// Whether the object is nested in another's `children` (its parent is that object).
+    pub nested: bool,
 }
 
 impl Motion {
     /// Whether the entity needs a pose (it has a parent or moves).
     pub(crate) fn posed(&self) -> bool {
         self.parent.is_some()
+            || self.nested
             || self.spin.is_some()
             || self.orbit.is_some()
             || self.bob.is_some()

@@ -4,13 +4,15 @@
 use std::path::Path;
 
 use glam::Vec3;
+use hecs::Entity;
 use phosphor_lighting::{Attenuation, Fresnel, Light, LightKind, Material, SpecularModel};
 use phosphor_mesh::{NormalSource, Weighting};
 use phosphor_raster::{Camera, Encoding, ProceduralBump, Projection};
 use toml::{Table, Value};
 
 use crate::components::{
-    BumpSource, MaterialDef, MaterialName, MeshRef, MeshSource, Name, Primitive, Shading, Transform,
+    BumpSource, GltfNode, GltfRoot, MaterialDef, MaterialName, MeshRef, MeshSource, Name,
+    Primitive, Shading, Transform,
 };
 use crate::components::{CastsShadows, ShadowRole};
 use crate::error::SceneError;
@@ -296,6 +298,80 @@ fn primitive_table(p: &Primitive) -> Table {
     t
 }
 
+/// What an object's table says, gathered from a mesh object or a glTF root.
+struct ObjectTable<'a> {
+    name: &'a str,
+    /// The world transform (the `LocalTransform` is written where there is one).
+    transform: Transform,
+    source: &'a MeshSource,
+    material: &'a str,
+    normalized: bool,
+    normals: &'a phosphor_mesh::NormalOptions,
+    shading: Option<&'a Shading>,
+}
+
+fn object_table(scene: &Scene, e: Entity, o: &ObjectTable<'_>) -> Table {
+    let mut t = Table::new();
+    t.insert("name".into(), s(o.name));
+    match o.source {
+        MeshSource::File { written, .. } => {
+            t.insert("mesh".into(), s(written.as_str()));
+        }
+        MeshSource::Primitive(p) => {
+            t.insert("primitive".into(), Value::Table(primitive_table(p)));
+        }
+    }
+    t.insert("material".into(), s(o.material));
+    t.insert("normalize".into(), Value::Boolean(o.normalized));
+    if let Some(sh) = o.shading {
+        t.insert("shading".into(), s(sh.0.name()));
+    }
+    if let Ok(role) = scene.world.get::<&ShadowRole>(e) {
+        t.insert("cast_shadows".into(), Value::Boolean(role.cast));
+        t.insert("receive_shadows".into(), Value::Boolean(role.receive));
+    }
+    let n = o.normals;
+    let mut nt = Table::new();
+    nt.insert(
+        "weighting".into(),
+        s(match n.weighting {
+            Weighting::Uniform => "uniform",
+            Weighting::Area => "area",
+            Weighting::Angle => "angle",
+        }),
+    );
+    if let Some(a) = n.crease_angle_deg {
+        nt.insert("crease_angle_deg".into(), f(a));
+    }
+    nt.insert(
+        "smoothing_groups".into(),
+        Value::Boolean(n.use_smoothing_groups),
+    );
+    nt.insert(
+        "split_by_material".into(),
+        Value::Boolean(n.split_by_material),
+    );
+    nt.insert(
+        "source".into(),
+        s(match n.source {
+            NormalSource::Authored => "file",
+            NormalSource::Computed => "computed",
+        }),
+    );
+    t.insert("normals".into(), Value::Table(nt));
+    let tr = scene
+        .world
+        .get::<&LocalTransform>(e)
+        .map_or(o.transform, |l| l.0);
+    super::motion::write_motion(scene, e, &mut t);
+    let mut tt = Table::new();
+    tt.insert("translate".into(), v3(tr.translate));
+    tt.insert("rotate_deg".into(), v3(tr.rotate_deg));
+    tt.insert("scale".into(), v3(tr.scale));
+    t.insert("transform".into(), Value::Table(tt));
+    t
+}
+
 /// The scene as TOML text.
 #[must_use]
 pub fn scene_to_toml(scene: &Scene) -> String {
@@ -340,7 +416,43 @@ pub fn scene_to_toml(scene: &Scene) -> String {
     // Objects without a name, transform or material are not drawn either
     // (`render::unrenderable` warns of them); an object whose material is not in the table
     // (spawned by hand, without a `MaterialName`) gets an entry of its own.
-    for e in scene.objects() {
+    // The entities a glTF's nodes made come from the file again when it loads: only their
+    // root is written.
+    let mut written: Vec<Entity> = scene
+        .objects()
+        .into_iter()
+        .chain(scene.entities_with::<GltfRoot>())
+        .filter(|&e| scene.world.get::<&GltfNode>(e).is_err())
+        .collect();
+    written.sort_by_key(|e| e.id());
+    written.dedup();
+    for e in written {
+        if let Ok(root) = scene.world.get::<&GltfRoot>(e) {
+            let Ok(name) = scene.world.get::<&Name>(e) else {
+                continue;
+            };
+            let tr = scene
+                .world
+                .get::<&Transform>(e)
+                .map(|t| *t)
+                .unwrap_or_default();
+            let mat = scene
+                .world
+                .get::<&MaterialName>(e)
+                .map_or_else(|_| "default".to_owned(), |m| m.0.clone());
+            let shading = scene.world.get::<&Shading>(e).ok().map(|s| *s);
+            let what = ObjectTable {
+                name: &name.0,
+                transform: tr,
+                source: &root.source,
+                material: &mat,
+                normalized: root.normalized,
+                normals: &root.normals,
+                shading: shading.as_ref(),
+            };
+            objects.push(Value::Table(object_table(scene, e, &what)));
+            continue;
+        }
         let mut q = scene.world.query_one::<(
             &Name,
             &Transform,
@@ -363,63 +475,16 @@ pub fn scene_to_toml(scene: &Scene) -> String {
                 own
             }
         };
-        let mat = MaterialName(mat);
-        let mut t = Table::new();
-        t.insert("name".into(), s(&name.0));
-        match &mesh.0.source {
-            MeshSource::File { written, .. } => {
-                t.insert("mesh".into(), s(written.as_str()));
-            }
-            MeshSource::Primitive(p) => {
-                t.insert("primitive".into(), Value::Table(primitive_table(p)));
-            }
-        }
-        t.insert("material".into(), s(&mat.0));
-        t.insert("normalize".into(), Value::Boolean(mesh.0.normalized));
-        if let Some(sh) = shading {
-            t.insert("shading".into(), s(sh.0.name()));
-        }
-        if let Ok(role) = scene.world.get::<&ShadowRole>(e) {
-            t.insert("cast_shadows".into(), Value::Boolean(role.cast));
-            t.insert("receive_shadows".into(), Value::Boolean(role.receive));
-        }
-        let n = &mesh.0.normals;
-        let mut nt = Table::new();
-        nt.insert(
-            "weighting".into(),
-            s(match n.weighting {
-                Weighting::Uniform => "uniform",
-                Weighting::Area => "area",
-                Weighting::Angle => "angle",
-            }),
-        );
-        if let Some(a) = n.crease_angle_deg {
-            nt.insert("crease_angle_deg".into(), f(a));
-        }
-        nt.insert(
-            "smoothing_groups".into(),
-            Value::Boolean(n.use_smoothing_groups),
-        );
-        nt.insert(
-            "split_by_material".into(),
-            Value::Boolean(n.split_by_material),
-        );
-        nt.insert(
-            "source".into(),
-            s(match n.source {
-                NormalSource::Authored => "file",
-                NormalSource::Computed => "computed",
-            }),
-        );
-        t.insert("normals".into(), Value::Table(nt));
-        let tr = scene.world.get::<&LocalTransform>(e).map_or(*tr, |l| l.0);
-        super::motion::write_motion(scene, e, &mut t);
-        let mut tt = Table::new();
-        tt.insert("translate".into(), v3(tr.translate));
-        tt.insert("rotate_deg".into(), v3(tr.rotate_deg));
-        tt.insert("scale".into(), v3(tr.scale));
-        t.insert("transform".into(), Value::Table(tt));
-        objects.push(Value::Table(t));
+        let what = ObjectTable {
+            name: &name.0,
+            transform: *tr,
+            source: &mesh.0.source,
+            material: &mat,
+            normalized: mesh.0.normalized,
+            normals: &mesh.0.normals,
+            shading,
+        };
+        objects.push(Value::Table(object_table(scene, e, &what)));
     }
     root.insert("materials".into(), Value::Table(materials));
     root.insert("objects".into(), Value::Array(objects));
