@@ -111,6 +111,10 @@ struct Twist {
     short_view: bool,
     /// The base's translation is a CUBICSPLINE channel.
     cubic: bool,
+    /// The first channel names sampler 5.
+    bad_sampler: bool,
+    /// The first sampler's input is accessor 99.
+    bad_input: bool,
 }
 
 /// A glTF: `base` (a triangle) -> `joint` (no mesh, its rotation animated) -> `hand` (a
@@ -149,6 +153,8 @@ fn robot(t: Twist) -> (String, Vec<u8>) {
     };
     let child = if t.bad_child { 9 } else { 1 };
     let target = if t.bad_target { 9 } else { 1 };
+    let sampler = if t.bad_sampler { 5 } else { 0 };
+    let input = if t.bad_input { 99 } else { times };
     let uri = if t.missing_buffer {
         "gone.bin"
     } else {
@@ -163,10 +169,10 @@ fn robot(t: Twist) -> (String, Vec<u8>) {
            {{\"name\":\"empty\",\"translation\":[5,5,5]}}],\
          \"meshes\":[{{\"name\":\"tri\",\"primitives\":[{{\"attributes\":{{\"POSITION\":{positions}}}}}]}}],\
          \"animations\":[{{\"channels\":[\
-             {{\"sampler\":0,\"target\":{{\"node\":{target},\"path\":\"rotation\"}}}},\
+             {{\"sampler\":{sampler},\"target\":{{\"node\":{target},\"path\":\"rotation\"}}}},\
              {{\"sampler\":1,\"target\":{{\"node\":0,\"path\":\"translation\"}}}}],\
            \"samplers\":[\
-             {{\"input\":{times},\"output\":{rotations},\"interpolation\":\"LINEAR\"}},\
+             {{\"input\":{input},\"output\":{rotations},\"interpolation\":\"LINEAR\"}},\
              {{\"input\":{times},\"output\":{translations},\"interpolation\":\"{interpolation}\"}}]}}],\
          \"accessors\":[{}],\"bufferViews\":[{}],\
          \"buffers\":[{{\"byteLength\":{},\"uri\":\"{uri}\"}}]}}",
@@ -477,6 +483,20 @@ fn bad_gltf_files_are_errors_naming_the_file_and_the_element() {
                 ..Twist::default()
             },
             &["animations[0].channels[0]", "bufferViews[2]"][..],
+        ),
+        (
+            Twist {
+                bad_sampler: true,
+                ..Twist::default()
+            },
+            &["animations[0].channels[0]"][..],
+        ),
+        (
+            Twist {
+                bad_input: true,
+                ..Twist::default()
+            },
+            &["animations[0]"][..],
         ),
     ] {
         let path = write_robot(&dir, twist);
