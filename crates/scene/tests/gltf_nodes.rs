@@ -7,10 +7,13 @@
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Quat, Vec3};
+use phosphor_raster::Framebuffer;
 use phosphor_scene::animation::{Time, update};
 use phosphor_scene::hierarchy::GlobalTransform;
 use phosphor_scene::view::framed_camera;
-use phosphor_scene::{FrameOptions, MeshRef, Name, Scene, Transform, plan_frame, scene_to_toml};
+use phosphor_scene::{
+    FrameOptions, MeshRef, Name, Scene, Transform, plan_frame, render_frame, scene_to_toml,
+};
 
 fn temp_dir(test: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!(
@@ -307,6 +310,13 @@ fn nodes_become_entities_placed_like_hand_composed_matrices() {
     assert!(planned[0].1.abs_diff_eq(base, 1e-3));
     assert_eq!(planned[1].0, "robot/hand");
     assert!(planned[1].1.abs_diff_eq(hand, 1e-3));
+    // And the renderer draws both triangles.
+    scene.set_camera(camera);
+    let mut fb = Framebuffer::new(64, 48).unwrap();
+    let report = render_frame(&scene, &mut fb, &FrameOptions::default());
+    assert!(report.warnings.is_empty(), "{:?}", report.warnings);
+    assert_eq!(report.stats.triangles_in, 2);
+    assert!(report.stats.pixels_shaded > 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
