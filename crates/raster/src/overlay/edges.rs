@@ -16,6 +16,7 @@ pub enum Edges {
     /// Edges where two faces meet at more than `angle_deg` degrees between their normals
     /// (a crease), edges of one face (the border of an open surface) and edges of more than
     /// two faces: the outline a smooth shading keeps, without the triangles of its curves.
+    /// Triangles without a normal (zero area, or a vertex that is not finite) take no part.
     /// A NaN angle counts as 0 (every edge between faces that are not coplanar).
     Creases {
         /// The angle between neighbouring face normals above which an edge is drawn.
@@ -97,16 +98,21 @@ pub fn edge_list(mesh: &MeshView, edges: Edges) -> Vec<(u32, u32)> {
         }
         let at = |i: u32| mesh.positions[i as usize].as_dvec3();
         let normal = (at(b) - at(a)).cross(at(c) - at(a));
+        // A face without a normal (zero area, or a vertex that is not finite) meets its
+        // neighbours at no defined angle: the crease test leaves it out, so an edge it shares
+        // with one real face is that face's border.
+        let length = normal.length();
+        if cos_limit.is_some() && !(length > 0.0 && length.is_finite()) {
+            continue;
+        }
         for (p, q) in [(a, b), (b, c), (c, a)] {
             let key = (p.min(q), p.max(q));
             match seen.get_mut(&key) {
                 Some(e) => {
                     e.count += 1;
                     if let Some(cos_limit) = cos_limit {
-                        let len = e.normal.length() * normal.length();
-                        // A face without a normal (zero area) meets its neighbours at no
-                        // defined angle: it does not make a crease.
-                        if len > 0.0 && len.is_finite() && e.normal.dot(normal) < cos_limit * len {
+                        let len = e.normal.length() * length;
+                        if e.normal.dot(normal) < cos_limit * len {
                             e.creased = true;
                         }
                     }
