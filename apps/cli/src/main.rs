@@ -45,7 +45,6 @@ mod plot;
 mod progress;
 mod rgb8;
 mod view;
-mod wireframe;
 
 use std::process::ExitCode;
 

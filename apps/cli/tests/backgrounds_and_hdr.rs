@@ -2,7 +2,8 @@
 //! gives PNG an alpha channel that is the exact coverage (0 outside the object, 255 inside,
 //! the share of samples on an anti-aliased edge) and EXR an A channel; EXR keeps intensities
 //! above 1; `--exposure` scales by `2^EV` and `--tone-map` brings highlights into range;
-//! `--wireframe` draws the edges over the picture; bad values are one usage error naming the
+//! `--wireframe` draws the edges over the picture (smooth in an anti-aliased frame), `--grid`
+//! and `--axes` their guides; bad values are one usage error naming the
 //! flag.
 
 #![allow(clippy::unwrap_used)]
@@ -317,38 +318,52 @@ fn bad_backgrounds_exposures_and_tone_maps_are_usage_errors_naming_the_flag() {
     );
 }
 
+/// The pixels of `a` and `b` (same size) that differ, as `(x, y, a's, b's)`.
+fn changes(a: &image::RgbImage, b: &image::RgbImage) -> Vec<(u32, u32, [u8; 3], [u8; 3])> {
+    a.enumerate_pixels()
+        .zip(b.pixels())
+        .filter(|((_, _, p), q)| p != q)
+        .map(|((x, y, p), q)| (x, y, p.0, q.0))
+        .collect()
+}
+
 #[test]
 fn wireframe_draws_edges_over_the_picture_and_changes_nothing_else() {
     let d = temp("wire");
-    let plain = image::open(render(&d, "plain.png", &CUBE))
-        .unwrap()
-        .to_rgb8();
-    let mut args = CUBE.to_vec();
-    args.push("--wireframe=1,0,0");
-    let wired = image::open(render(&d, "wired.png", &args))
-        .unwrap()
-        .to_rgb8();
-    let mut lines = 0;
-    for (p, q) in plain.pixels().zip(wired.pixels()) {
-        if p != q {
-            assert_eq!(q.0, [255, 0, 0]);
-            lines += 1;
-        }
-    }
-    // The cube's visible edges: three faces' outlines and diagonals, dozens of pixels.
-    assert!(lines > 60, "{lines} line pixels");
+    let open = |name: &str, extra: &[&str], aa: &str| {
+        let mut args = CUBE[..4].to_vec();
+        args.extend_from_slice(&["--aa", aa]);
+        args.extend_from_slice(extra);
+        image::open(render(&d, name, &args)).unwrap().to_rgb8()
+    };
+    let plain = open("plain.png", &[], "off");
+    let wired = open("wired.png", &["--wireframe=1,0,0"], "off");
+    let lines = changes(&plain, &wired);
+    // The cube's visible edges: three faces' outlines and diagonals, dozens of pixels, each
+    // taking the line's colour whole without anti-aliasing.
+    assert!(lines.len() > 60, "{} line pixels", lines.len());
+    assert!(lines.iter().all(|c| c.3 == [255, 0, 0]));
+    // Crease edges only: the outlines without the faces' diagonals.
+    let creases = open("creases.png", &["--wireframe=1,0,0", "--wire-edges", "creases"], "off");
+    let crease_lines = changes(&plain, &creases);
+    assert!(
+        crease_lines.len() > 40 && crease_lines.len() + 20 < lines.len(),
+        "{} of {}",
+        crease_lines.len(),
+        lines.len()
+    );
+    assert!(crease_lines.iter().all(|c| c.3 == [255, 0, 0]));
     // Alone, the flag draws black lines.
-    let mut args = CUBE.to_vec();
-    args.push("--wireframe");
-    let black = image::open(render(&d, "black.png", &args))
-        .unwrap()
-        .to_rgb8();
-    let changed: Vec<_> = plain
-        .pixels()
-        .zip(black.pixels())
-        .filter(|(p, q)| p != q)
-        .collect();
-    assert!(changed.len() > 60 && changed.iter().all(|(_, q)| q.0 == [0, 0, 0]));
+    let black = open("black.png", &["--wireframe"], "off");
+    let changed = changes(&plain, &black);
+    assert!(changed.len() > 60 && changed.iter().all(|c| c.3 == [0, 0, 0]));
+    // An anti-aliased frame gets smooth lines: every changed pixel moves towards red, and
+    // the pixels either side of a line take part of it.
+    let plain4 = open("plain4.png", &[], "msaa4");
+    let smooth = changes(&plain4, &open("smooth.png", &["--wireframe=1,0,0"], "msaa4"));
+    assert!(smooth.iter().all(|(_, _, p, q)| q[0] >= p[0] && q[1] <= p[1] && q[2] <= p[2]));
+    let partial = smooth.iter().filter(|c| c.3 != [255, 0, 0]).count();
+    assert!(partial > 20 && smooth.len() > lines.len(), "{partial} of {}", smooth.len());
     for bad in [
         "--wireframe=1,2",
         "--wireframe=0,0,0,1",
@@ -361,5 +376,37 @@ fn wireframe_draws_edges_over_the_picture_and_changes_nothing_else() {
             e.starts_with("error: --wireframe: invalid value"),
             "{bad}: {e}"
         );
+    }
+    for bad in ["creases:200", "creases:x", "sides"] {
+        let o = phosphor(&["render", "--wireframe", "--wire-edges", bad, "-o", "x.png"]);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {e}");
+        assert!(e.starts_with("error: --wire-edges: invalid value"), "{bad}: {e}");
+    }
+    let o = phosphor(&["render", "--wire-edges", "all", "-o", "x.png"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--wireframe"), "{}", stderr(&o));
+}
+
+#[test]
+fn the_grid_shows_around_the_object_and_the_axes_stay_in_their_corner() {
+    let d = temp("guides");
+    let open = |name: &str, extra: &[&str]| {
+        let mut args = CUBE[..4].to_vec();
+        args.extend_from_slice(&["--aa", "off"]);
+        args.extend_from_slice(extra);
+        image::open(render(&d, name, &args)).unwrap().to_rgb8()
+    };
+    let plain = open("plain.png", &[]);
+    let grid = changes(&plain, &open("grid.png", &["--grid=0,1,0"]));
+    assert!(grid.len() > 30, "{}", grid.len());
+    assert!(grid.iter().all(|c| c.3 == [0, 255, 0]));
+    let axes = changes(&plain, &open("axes.png", &["--axes"]));
+    assert!(axes.len() >= 6, "{}", axes.len());
+    // 64x48: the triad's arms are 6 pixels long from (9, 39).
+    assert!(axes.iter().all(|&(x, y, _, _)| x < 16 && y > 32), "{axes:?}");
+    // x red, y green, z blue: each arm has its axis's channel strongest.
+    for ch in 0..3 {
+        assert!(axes.iter().any(|c| (0..3).all(|k| k == ch || c.3[ch] > c.3[k])), "channel {ch}");
     }
 }

@@ -2,6 +2,9 @@
 
 use phosphor_lighting::Light;
 use phosphor_output::{memory, term};
+use phosphor_math::glam::Vec3;
+use phosphor_mesh::normals::DEFAULT_CREASE_ANGLE_DEG;
+use phosphor_raster::overlay::Edges;
 use phosphor_raster::{Antialias, Camera, FastPhongMethod, Interpolation, Projection, ShadingMode};
 use phosphor_scene::ShadingChoice;
 use phosphor_scene::preset::{ViewPreset, preset_camera};
@@ -10,6 +13,13 @@ use crate::input::{Action, ModeKey, OrbitCamera, key_help};
 use crate::view;
 use crate::viewer::{Viewer, bytes_per_pixel};
 use crate::window::View;
+
+/// The wireframe's colour in the window (linear RGB): an orange that shows on dark
+/// backgrounds and on lit surfaces alike.
+const WIRE_COLOR: Vec3 = Vec3::new(1.0, 0.45, 0.05);
+
+/// The grid's colour in the window (linear RGB).
+const GRID_COLOR: Vec3 = Vec3::new(0.25, 0.25, 0.25);
 
 impl Viewer {
     /// Applies a user action; returns true when the picture must be redrawn.
@@ -75,6 +85,30 @@ impl Viewer {
             }
             Action::ToggleMaps => {
                 self.textures = !self.textures;
+                true
+            }
+            Action::CycleWireframe => {
+                self.overlays.wireframe = match self.overlays.wireframe {
+                    None => Some((Edges::All, WIRE_COLOR)),
+                    Some((Edges::All, c)) => Some((
+                        Edges::Creases {
+                            angle_deg: DEFAULT_CREASE_ANGLE_DEG,
+                        },
+                        c,
+                    )),
+                    Some((Edges::Creases { .. }, _)) => None,
+                };
+                true
+            }
+            Action::ToggleGrid => {
+                self.overlays.grid = match self.overlays.grid {
+                    None => Some(GRID_COLOR),
+                    Some(_) => None,
+                };
+                true
+            }
+            Action::ToggleAxes => {
+                self.overlays.axes = !self.overlays.axes;
                 true
             }
             Action::TogglePerspective => {

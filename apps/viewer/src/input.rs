@@ -41,6 +41,8 @@ const KEY_HELP_TAIL: &str = "\
   I                    gouraud, phong: plane / incremental scan line (Gouraud 1971)
   O                    orthographic / perspective projection
   V                    next standard view: front, right, back, left, top, bottom, iso
+  W                    wireframe over the picture: every edge, crease edges only, off
+  G, X                 toggle the ground grid, the axes (x red, y green, z blue)
   R                    reset the view
   C                    print the camera as a scene file's [camera] block (paste it into a scene)
   Space                play / pause the scene's clock (spins, orbits, bobs, keyframes)
@@ -112,6 +114,12 @@ pub enum Action {
     ToggleInterpolation,
     /// Switch between perspective and orthographic projection.
     ToggleOrtho,
+    /// Cycle the wireframe overlay: off, every edge, crease edges only.
+    CycleWireframe,
+    /// Toggle the ground grid.
+    ToggleGrid,
+    /// Toggle the axes' triad.
+    ToggleAxes,
     /// Go to the next standard view (front, right, back, left, top, bottom, iso).
     NextView,
     /// Back to the scene's camera.
@@ -177,6 +185,9 @@ pub fn key_action(code: KeyCode, shift: bool) -> Option<Action> {
         KeyCode::KeyT => Some(Action::ToggleFastPhong),
         KeyCode::KeyI => Some(Action::ToggleInterpolation),
         KeyCode::KeyO => Some(Action::ToggleOrtho),
+        KeyCode::KeyW => Some(Action::CycleWireframe),
+        KeyCode::KeyG => Some(Action::ToggleGrid),
+        KeyCode::KeyX => Some(Action::ToggleAxes),
         KeyCode::KeyV => Some(Action::NextView),
         KeyCode::KeyR => Some(Action::ResetView),
         KeyCode::KeyC => Some(Action::PrintCamera),
@@ -460,6 +471,9 @@ mod tests {
         assert!(listed("T ") && listed("I "), "{help}");
         assert!(listed("O ") && listed("V "), "{help}");
         assert_eq!(key_action(KeyCode::KeyO, false), Some(Action::ToggleOrtho));
+        assert_eq!(key_action(KeyCode::KeyW, false), Some(Action::CycleWireframe));
+        assert_eq!(key_action(KeyCode::KeyG, false), Some(Action::ToggleGrid));
+        assert_eq!(key_action(KeyCode::KeyX, false), Some(Action::ToggleAxes));
         assert_eq!(key_action(KeyCode::KeyV, false), Some(Action::NextView));
         assert_eq!(
             key_action(KeyCode::KeyT, false),

@@ -9,13 +9,14 @@ use phosphor_math::glam::Vec3;
 use phosphor_output::image::{Transfer, write_png};
 use phosphor_output::term;
 use phosphor_raster::encode::Encoder;
+use phosphor_raster::overlay::{Edges, Overlays};
 use phosphor_raster::{
     Antialias, Camera, Encoding, FastPhongMethod, Framebuffer, Interpolation, Projection,
 };
 use phosphor_scene::animation::{Time, is_animated, update};
 use phosphor_scene::preset::ViewPreset;
 use phosphor_scene::view::camera_toml;
-use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
+use phosphor_scene::{FrameOptions, Scene, ShadingChoice, draw_items, render_frame};
 
 use crate::input::{Action, OrbitCamera};
 use crate::window::View;
@@ -90,6 +91,8 @@ pub struct Viewer {
     pub shadows_dropped: bool,
     pub fast_phong: FastPhongMethod,
     pub interpolation: Interpolation,
+    /// Wireframe (key W), grid (G) and axes (X) drawn over each frame.
+    pub overlays: Overlays,
     pub fb: Option<Framebuffer>,
     /// `--force` for the screenshot.
     pub force: bool,
@@ -154,6 +157,7 @@ impl Viewer {
             shadows_dropped: false,
             fast_phong: scene.settings.fast_phong,
             interpolation: scene.settings.interpolation,
+            overlays: Overlays::default(),
             scene,
             home,
             shading: None,
@@ -231,6 +235,27 @@ impl Viewer {
     }
 }
 
+/// The overlays on screen, for the title: ` | wireframe, grid, axes` or nothing.
+fn overlay_title(o: &Overlays) -> String {
+    let names: Vec<&str> = [
+        match o.wireframe {
+            None => None,
+            Some((Edges::All, _)) => Some("wireframe"),
+            Some((Edges::Creases { .. }, _)) => Some("creases"),
+        },
+        o.grid.map(|_| "grid"),
+        o.axes.then_some("axes"),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    if names.is_empty() {
+        String::new()
+    } else {
+        format!(" | {}", names.join(", "))
+    }
+}
+
 impl View for Viewer {
     fn draw(&mut self, width: u32, height: u32, out: &mut [u32]) -> Result<(), String> {
         let start = Instant::now();
@@ -264,6 +289,11 @@ impl View for Viewer {
             ..FrameOptions::default()
         };
         let report = render_frame(&self.scene, &mut fb, &opts);
+        if !self.overlays.is_empty() {
+            let items = draw_items(&report.plan);
+            let smooth = report.stats.antialias != Antialias::Off;
+            self.overlays.draw(&mut fb, &camera, &items, smooth);
+        }
         for w in &report.warnings {
             if !self.told.contains(w) {
                 term::warn(w);
@@ -303,7 +333,7 @@ impl View for Viewer {
             .shading
             .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
         format!(
-            "Phosphor | {}{mode}{}{}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            "Phosphor | {}{mode}{}{}{}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
             if self.animated() {
                 format!(
                     "t {:.2} s {} | ",
@@ -335,6 +365,7 @@ impl View for Viewer {
                 Some(false) => " | shadows off",
             },
             if self.textures { "" } else { " | maps off" },
+            overlay_title(&self.overlays),
             if self.perspective_correct {
                 ""
             } else {
@@ -490,5 +521,40 @@ mod tests {
         viewer.shadows = Some(true);
         viewer.fixed_frames = true;
         assert_eq!(viewer.frame_shadows(), Some(true));
+    }
+
+    #[test]
+    fn keys_w_g_x_draw_the_overlays_over_the_window_and_off_again() {
+        let mut viewer = Viewer::new(Scene::default_scene().unwrap());
+        viewer.fixed_frames = true;
+        let (w, h) = (96u32, 54u32);
+        let mut plain = vec![0u32; (w * h) as usize];
+        viewer.draw(w, h, &mut plain).unwrap();
+        let mut out = vec![0u32; (w * h) as usize];
+        let differs = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+        // W: every edge, then crease edges only (fewer pixels), then off.
+        viewer.apply(Action::CycleWireframe, h);
+        viewer.draw(w, h, &mut out).unwrap();
+        let every = differs(&plain, &out);
+        assert!(viewer.title().contains("| wireframe"), "{}", viewer.title());
+        viewer.apply(Action::CycleWireframe, h);
+        viewer.draw(w, h, &mut out).unwrap();
+        let creases = differs(&plain, &out);
+        assert!(viewer.title().contains("| creases"));
+        assert!(every > 200 && creases > 50 && creases < every, "{every} {creases}");
+        viewer.apply(Action::CycleWireframe, h);
+        viewer.draw(w, h, &mut out).unwrap();
+        assert_eq!(differs(&plain, &out), 0, "off again");
+        // G and X: the grid and the corner triad, named in the title together.
+        viewer.apply(Action::ToggleGrid, h);
+        viewer.apply(Action::ToggleAxes, h);
+        viewer.draw(w, h, &mut out).unwrap();
+        assert!(differs(&plain, &out) > 20);
+        assert!(viewer.title().contains("| grid, axes"), "{}", viewer.title());
+        // Off again, and the window's partial clear leaves nothing of them behind.
+        viewer.apply(Action::ToggleGrid, h);
+        viewer.apply(Action::ToggleAxes, h);
+        viewer.draw(w, h, &mut out).unwrap();
+        assert_eq!(differs(&plain, &out), 0);
     }
 }

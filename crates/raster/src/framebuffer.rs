@@ -267,6 +267,20 @@ impl Framebuffer {
         &self.color
     }
 
+    /// Blends `color` over pixel `(x, y)` (inside the image) with weight `w` in `[0, 1]`,
+    /// clamped to the framebuffer's range, and counts the pixel as written since the last
+    /// clear: an overlay drawn over the background must survive the next partial clear and
+    /// the background fill of [`Framebuffer::write_0rgb`]. Depth is left as drawn, and so is
+    /// coverage.
+    pub(crate) fn blend(&mut self, x: usize, y: usize, color: Vec3, w: f32) {
+        let at = y * self.width as usize + x;
+        let c = self.color[at];
+        self.color[at] = clamp_color_to(c + (color - c) * w, self.ceiling);
+        let d = &mut self.dirty[y];
+        d.0 = d.0.min(x as u32);
+        d.1 = d.1.max(x as u32 + 1);
+    }
+
     /// All depths, row-major, in `[0, 1]`.
     #[must_use]
     pub fn depth(&self) -> &[f32] {

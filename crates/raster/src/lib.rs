@@ -22,8 +22,8 @@
 //! triangle, Bishop and Weimer 1986's Taylor expansion or a six-point fit,
 //! [`RenderOptions::fast_phong`], with a per-triangle fallback to `phong`) and `reference`
 //! (f64, exact). The stage modules named above are internal; `docs/architecture.md` describes
-//! them. [`bump`] holds bump mapping. Every colour written is checked finite (debug) and
-//! clamped to `[0, 1]`.
+//! them. [`bump`] holds bump mapping; [`overlay`] draws wireframes, a grid and axes over a
+//! finished frame. Every colour written is checked finite (debug) and clamped to `[0, 1]`.
 //!
 //! ```
 //! use glam::{Mat4, Vec3};
@@ -79,6 +79,7 @@ pub mod encode;
 pub mod framebuffer;
 pub(crate) mod incremental;
 pub(crate) mod multisample;
+pub mod overlay;
 pub(crate) mod parallel;
 pub(crate) mod records;
 mod render;

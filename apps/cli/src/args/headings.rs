@@ -23,7 +23,9 @@ mod tests {
             | "no_smoothing_groups"
             | "split_by_material" => NORMALS_HEADING,
             "cull" | "aa" | "size" | "threads" | "fast_phong" | "interpolation" | "simd"
-            | "shadows" | "background" | "wireframe" => RENDERING_HEADING,
+            | "shadows" | "background" | "wireframe" | "wire_edges" | "grid" | "axes" => {
+                RENDERING_HEADING
+            }
             "shading" if subcommand == "bench" => MEASURING_HEADING,
             "shading" => RENDERING_HEADING,
             "output" | "encoding" | "force" | "plan" | "out_dir" | "csv" | "exposure"

@@ -50,7 +50,7 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene (or a mesh in the standard scene S1) to a PNG or EXR file.
     #[command(
-        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render assets/scenes/s1.toml --shading fast-phong --fast-phong fit -o fit.png\n  phosphor render assets/scenes/s1.toml --shading gouraud --interpolation incremental -o inc.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.png\n  phosphor render --mesh assets/meshes/teapot.obj --background transparent --aa msaa16 -o thumb.png\n  phosphor render assets/scenes/default.toml -o hdr.exr   (values above 1 kept)\n  phosphor render assets/scenes/default.toml --exposure -1 --tone-map aces -o aces.png\n  phosphor render assets/scenes/s1.toml --plan    (print the frame plan only)\n  phosphor render --mesh assets/meshes/cube.obj --azimuth 45 --elevation 30 -o cube.png\n  phosphor render --mesh assets/meshes/bunny_small.obj --wireframe=1,1,1 -o wire.png\n  phosphor render --mesh assets/meshes/teapot.obj --view top --ortho -o top.png\n  phosphor render assets/scenes/default.toml --eye 4,2,4 --target 0,0.5,0 --fov 35 -o view.png\n  phosphor render assets/scenes/s1.toml --turntable 36 -o out/frame_%04d.png   (makes out/)\n  phosphor render assets/scenes/s1.toml --turntable 36 --frames 0..18 -o out/frame_%04d.png\n  phosphor render assets/scenes/s1.toml -o - > frame.png   (one PNG on standard output)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear, tagged as such; RGBA\nover a background that is not opaque) or .exr (linear f32, values above 1 kept). Each file\nis written whole or not at all: on any error (a full disk too) an existing file is left\nuntouched. Missing folders of the output are made, once the frame is drawn. A symbolic link\nis written through; a read-only file, a device or a FIFO only with --force."
+        after_help = "Examples:\n  phosphor render -o out.png                      (the embedded default scene)\n  phosphor render assets/scenes/s1.toml --shading fast-phong --size 640x480 -o s1.png\n  phosphor render assets/scenes/s1.toml --shading fast-phong --fast-phong fit -o fit.png\n  phosphor render assets/scenes/s1.toml --shading gouraud --interpolation incremental -o inc.png\n  phosphor render --mesh assets/meshes/teapot.obj --encoding linear -o teapot.png\n  phosphor render --mesh assets/meshes/teapot.obj --background transparent --aa msaa16 -o thumb.png\n  phosphor render assets/scenes/default.toml -o hdr.exr   (values above 1 kept)\n  phosphor render assets/scenes/default.toml --exposure -1 --tone-map aces -o aces.png\n  phosphor render assets/scenes/s1.toml --plan    (print the frame plan only)\n  phosphor render --mesh assets/meshes/cube.obj --azimuth 45 --elevation 30 -o cube.png\n  phosphor render --mesh assets/meshes/bunny_small.obj --wireframe=1,1,1 --grid --axes -o wire.png\n  phosphor render --mesh assets/meshes/teapot.obj --view top --ortho -o top.png\n  phosphor render assets/scenes/default.toml --eye 4,2,4 --target 0,0.5,0 --fov 35 -o view.png\n  phosphor render assets/scenes/s1.toml --turntable 36 -o out/frame_%04d.png   (makes out/)\n  phosphor render assets/scenes/s1.toml --turntable 36 --frames 0..18 -o out/frame_%04d.png\n  phosphor render assets/scenes/s1.toml -o - > frame.png   (one PNG on standard output)\n\nThe output format follows the extension: .png (8-bit, sRGB or linear, tagged as such; RGBA\nover a background that is not opaque) or .exr (linear f32, values above 1 kept). Each file\nis written whole or not at all: on any error (a full disk too) an existing file is left\nuntouched. Missing folders of the output are made, once the frame is drawn. A symbolic link\nis written through; a read-only file, a device or a FIFO only with --force."
     )]
     Render(RenderArgs),
     /// Render in every mode, compare each with `reference`, and print a table of errors and times.
@@ -172,7 +172,8 @@ pub struct RenderArgs {
     )]
     pub tone_map: ToneMapArg,
     /// Draw every triangle's edges as one-pixel lines over the picture where they are seen
-    /// (depth-tested): black, or the linear colour given as `--wireframe=R,G,B`.
+    /// (depth-tested; anti-aliased unless --aa off): black, or the linear colour given as
+    /// `--wireframe=R,G,B`.
     #[arg(
         long,
         help_heading = RENDERING_HEADING,
@@ -183,6 +184,31 @@ pub struct RenderArgs {
         value_parser = parse_wire_color
     )]
     pub wireframe: Option<phosphor_math::glam::Vec3>,
+    /// The wireframe's edges: `all`, or `creases` (where faces meet at more than 60 degrees,
+    /// and open borders), or `creases:DEG` at another angle (0 to 180).
+    #[arg(
+        long,
+        help_heading = RENDERING_HEADING,
+        value_name = "all|creases[:DEG]",
+        requires = "wireframe",
+        value_parser = parse_wire_edges
+    )]
+    pub wire_edges: Option<phosphor_raster::overlay::Edges>,
+    /// A ground grid under the scene, in round steps, hidden behind objects: grey, or the
+    /// linear colour given as `--grid=R,G,B`.
+    #[arg(
+        long,
+        help_heading = RENDERING_HEADING,
+        value_name = "R,G,B",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "0.25,0.25,0.25",
+        value_parser = parse_wire_color
+    )]
+    pub grid: Option<phosphor_math::glam::Vec3>,
+    /// The world's axes as a triad in the lower-left corner: x red, y green, z blue.
+    #[arg(long, help_heading = RENDERING_HEADING)]
+    pub axes: bool,
     /// Variants of fast-phong, gouraud and phong.
     #[command(flatten)]
     pub variants: VariantArgs,

@@ -348,3 +348,22 @@ pub fn parse_wire_color(text: &str) -> Result<phosphor_math::glam::Vec3, String>
         Err(e) => Err(e.replace("R,G,B, R,G,B,A or transparent", "R,G,B")),
     }
 }
+
+/// `--wire-edges all|creases|creases:DEG`: which edges the wireframe draws; `creases` at the
+/// mesh crate's default crease angle, or at `DEG` (finite, 0 to 180).
+///
+/// # Errors
+/// A message naming what was expected.
+pub fn parse_wire_edges(text: &str) -> Result<phosphor_raster::overlay::Edges, String> {
+    use phosphor_raster::overlay::Edges;
+    let angle = match text.split_once(':') {
+        None if text == "all" => return Ok(Edges::All),
+        None if text == "creases" => phosphor_mesh::normals::DEFAULT_CREASE_ANGLE_DEG,
+        Some(("creases", deg)) => match deg.trim().parse::<f32>() {
+            Ok(a) if (0.0..=180.0).contains(&a) => a,
+            _ => return Err(format!("expected an angle from 0 to 180 after `creases:`, got `{deg}`")),
+        },
+        _ => return Err(format!("expected all, creases or creases:DEG, got `{text}`")),
+    };
+    Ok(Edges::Creases { angle_deg: angle })
+}

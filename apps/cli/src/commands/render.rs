@@ -126,6 +126,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     };
     fb.set_hdr(look.needs_hdr(format));
     let alloc_time = alloc_start.elapsed();
+    let overlays = phosphor_raster::overlay::Overlays {
+        wireframe: args
+            .wireframe
+            .map(|color| (args.wire_edges.unwrap_or(phosphor_raster::overlay::Edges::All), color)),
+        grid: args.grid,
+        axes: args.axes,
+    };
     let home = scene.camera();
     let start_time = args.time.unwrap_or(0.0);
     // The world is posed for each frame's instant before its plan is made: the plan (modes,
@@ -163,12 +170,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         );
         let render_start = Instant::now();
         let report = render_frame(&scene, &mut fb, &opts);
-        // The overlay goes into a copy of the colours; the frame itself stays as drawn.
-        let wired = args.wireframe.map(|color| {
+        // Overlays change the colours only: depths, and so the alpha, stay as drawn.
+        if !overlays.is_empty() {
             let items = phosphor_scene::draw_items(&report.plan);
-            crate::wireframe::overlay(&fb, &scene.camera(), &items, color).0
-        });
-        let colour = wired.as_deref().unwrap_or(fb.color());
+            let smooth = report.stats.antialias != Antialias::Off;
+            overlays.draw(&mut fb, &scene.camera(), &items, smooth);
+        }
+        let colour = fb.color();
         let mut render_time = render_start.elapsed();
         if index == 0 {
             render_time += alloc_time;
