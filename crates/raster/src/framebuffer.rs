@@ -274,8 +274,9 @@ impl Framebuffer {
     /// coverage.
     pub(crate) fn blend(&mut self, x: usize, y: usize, color: Vec3, w: f32) {
         let at = y * self.width as usize + x;
+        // Exactly `color` at `w = 1` (and the pixel at `w = 0`), as `c + (color - c) * w` is not.
         let c = self.color[at];
-        self.color[at] = clamp_color_to(c + (color - c) * w, self.ceiling);
+        self.color[at] = clamp_color_to(c * (1.0 - w) + color * w, self.ceiling);
         let d = &mut self.dirty[y];
         d.0 = d.0.min(x as u32);
         d.1 = d.1.max(x as u32 + 1);
