@@ -344,7 +344,11 @@ fn wireframe_draws_edges_over_the_picture_and_changes_nothing_else() {
     assert!(lines.len() > 60, "{} line pixels", lines.len());
     assert!(lines.iter().all(|c| c.3 == [255, 0, 0]));
     // Crease edges only: the outlines without the faces' diagonals.
-    let creases = open("creases.png", &["--wireframe=1,0,0", "--wire-edges", "creases"], "off");
+    let creases = open(
+        "creases.png",
+        &["--wireframe=1,0,0", "--wire-edges", "creases"],
+        "off",
+    );
     let crease_lines = changes(&plain, &creases);
     assert!(
         crease_lines.len() > 40 && crease_lines.len() + 20 < lines.len(),
@@ -360,10 +364,21 @@ fn wireframe_draws_edges_over_the_picture_and_changes_nothing_else() {
     // An anti-aliased frame gets smooth lines: every changed pixel moves towards red, and
     // the pixels either side of a line take part of it.
     let plain4 = open("plain4.png", &[], "msaa4");
-    let smooth = changes(&plain4, &open("smooth.png", &["--wireframe=1,0,0"], "msaa4"));
-    assert!(smooth.iter().all(|(_, _, p, q)| q[0] >= p[0] && q[1] <= p[1] && q[2] <= p[2]));
+    let smooth = changes(
+        &plain4,
+        &open("smooth.png", &["--wireframe=1,0,0"], "msaa4"),
+    );
+    assert!(
+        smooth
+            .iter()
+            .all(|(_, _, p, q)| q[0] >= p[0] && q[1] <= p[1] && q[2] <= p[2])
+    );
     let partial = smooth.iter().filter(|c| c.3 != [255, 0, 0]).count();
-    assert!(partial > 20 && smooth.len() > lines.len(), "{partial} of {}", smooth.len());
+    assert!(
+        partial > 20 && smooth.len() > lines.len(),
+        "{partial} of {}",
+        smooth.len()
+    );
     for bad in [
         "--wireframe=1,2",
         "--wireframe=0,0,0,1",
@@ -381,7 +396,10 @@ fn wireframe_draws_edges_over_the_picture_and_changes_nothing_else() {
         let o = phosphor(&["render", "--wireframe", "--wire-edges", bad, "-o", "x.png"]);
         let e = stderr(&o);
         assert_eq!(o.status.code(), Some(2), "{bad}: {e}");
-        assert!(e.starts_with("error: --wire-edges: invalid value"), "{bad}: {e}");
+        assert!(
+            e.starts_with("error: --wire-edges: invalid value"),
+            "{bad}: {e}"
+        );
     }
     let o = phosphor(&["render", "--wire-edges", "all", "-o", "x.png"]);
     assert_eq!(o.status.code(), Some(2));
@@ -404,9 +422,16 @@ fn the_grid_shows_around_the_object_and_the_axes_stay_in_their_corner() {
     let axes = changes(&plain, &open("axes.png", &["--axes"]));
     assert!(axes.len() >= 6, "{}", axes.len());
     // 64x48: the triad's arms are 6 pixels long from (9, 39).
-    assert!(axes.iter().all(|&(x, y, _, _)| x < 16 && y > 32), "{axes:?}");
+    assert!(
+        axes.iter().all(|&(x, y, _, _)| x < 16 && y > 32),
+        "{axes:?}"
+    );
     // x red, y green, z blue: each arm has its axis's channel strongest.
     for ch in 0..3 {
-        assert!(axes.iter().any(|c| (0..3).all(|k| k == ch || c.3[ch] > c.3[k])), "channel {ch}");
+        assert!(
+            axes.iter()
+                .any(|c| (0..3).all(|k| k == ch || c.3[ch] > c.3[k])),
+            "channel {ch}"
+        );
     }
 }

@@ -1,9 +1,9 @@
 //! What the keys and the mouse do to the viewer: [`Viewer::act`] applies an [`Action`].
 
 use phosphor_lighting::Light;
-use phosphor_output::{memory, term};
 use phosphor_math::glam::Vec3;
 use phosphor_mesh::normals::DEFAULT_CREASE_ANGLE_DEG;
+use phosphor_output::{memory, term};
 use phosphor_raster::overlay::Edges;
 use phosphor_raster::{Antialias, Camera, FastPhongMethod, Interpolation, Projection, ShadingMode};
 use phosphor_scene::ShadingChoice;

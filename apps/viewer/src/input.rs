@@ -471,7 +471,10 @@ mod tests {
         assert!(listed("T ") && listed("I "), "{help}");
         assert!(listed("O ") && listed("V "), "{help}");
         assert_eq!(key_action(KeyCode::KeyO, false), Some(Action::ToggleOrtho));
-        assert_eq!(key_action(KeyCode::KeyW, false), Some(Action::CycleWireframe));
+        assert_eq!(
+            key_action(KeyCode::KeyW, false),
+            Some(Action::CycleWireframe)
+        );
         assert_eq!(key_action(KeyCode::KeyG, false), Some(Action::ToggleGrid));
         assert_eq!(key_action(KeyCode::KeyX, false), Some(Action::ToggleAxes));
         assert_eq!(key_action(KeyCode::KeyV, false), Some(Action::NextView));

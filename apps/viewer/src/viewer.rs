@@ -541,7 +541,10 @@ mod tests {
         viewer.draw(w, h, &mut out).unwrap();
         let creases = differs(&plain, &out);
         assert!(viewer.title().contains("| creases"));
-        assert!(every > 200 && creases > 50 && creases < every, "{every} {creases}");
+        assert!(
+            every > 200 && creases > 50 && creases < every,
+            "{every} {creases}"
+        );
         viewer.apply(Action::CycleWireframe, h);
         viewer.draw(w, h, &mut out).unwrap();
         assert_eq!(differs(&plain, &out), 0, "off again");
@@ -550,7 +553,11 @@ mod tests {
         viewer.apply(Action::ToggleAxes, h);
         viewer.draw(w, h, &mut out).unwrap();
         assert!(differs(&plain, &out) > 20);
-        assert!(viewer.title().contains("| grid, axes"), "{}", viewer.title());
+        assert!(
+            viewer.title().contains("| grid, axes"),
+            "{}",
+            viewer.title()
+        );
         // Off again, and the window's partial clear leaves nothing of them behind.
         viewer.apply(Action::ToggleGrid, h);
         viewer.apply(Action::ToggleAxes, h);

@@ -361,9 +361,17 @@ pub fn parse_wire_edges(text: &str) -> Result<phosphor_raster::overlay::Edges, S
         None if text == "creases" => phosphor_mesh::normals::DEFAULT_CREASE_ANGLE_DEG,
         Some(("creases", deg)) => match deg.trim().parse::<f32>() {
             Ok(a) if (0.0..=180.0).contains(&a) => a,
-            _ => return Err(format!("expected an angle from 0 to 180 after `creases:`, got `{deg}`")),
+            _ => {
+                return Err(format!(
+                    "expected an angle from 0 to 180 after `creases:`, got `{deg}`"
+                ));
+            }
         },
-        _ => return Err(format!("expected all, creases or creases:DEG, got `{text}`")),
+        _ => {
+            return Err(format!(
+                "expected all, creases or creases:DEG, got `{text}`"
+            ));
+        }
     };
     Ok(Edges::Creases { angle_deg: angle })
 }

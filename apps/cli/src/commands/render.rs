@@ -127,9 +127,13 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     fb.set_hdr(look.needs_hdr(format));
     let alloc_time = alloc_start.elapsed();
     let overlays = phosphor_raster::overlay::Overlays {
-        wireframe: args
-            .wireframe
-            .map(|color| (args.wire_edges.unwrap_or(phosphor_raster::overlay::Edges::All), color)),
+        wireframe: args.wireframe.map(|color| {
+            (
+                args.wire_edges
+                    .unwrap_or(phosphor_raster::overlay::Edges::All),
+                color,
+            )
+        }),
         grid: args.grid,
         axes: args.axes,
     };
