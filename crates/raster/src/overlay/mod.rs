@@ -7,8 +7,9 @@
 //!   view.
 //!
 //! An overlay changes only the colours of the pixels its lines cross: depths, and so
-//! [`Framebuffer::coverage`] and the alpha of a transparent background, stay as drawn. It
-//! costs one pass over its lines after the frame and nothing while shading.
+//! [`Framebuffer::coverage`](crate::Framebuffer::coverage) and the alpha of a transparent
+//! background, stay as drawn. It costs one pass over its lines after the frame and nothing
+//! while shading.
 //!
 //! A line is clipped to the view volume in clip space (`-w <= x, y, z <= w`, Liang and
 //! Barsky 1984), projected as the triangles are, and drawn by columns or rows, whichever it
