@@ -18,7 +18,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::batch::shade_rows;
+use crate::batch::shade4;
 use crate::bin::{Binned, TriRec};
 use crate::bypixel::ByPixel;
 use crate::coverage::{BandTarget, Pass, depth_only};
@@ -231,18 +231,13 @@ fn by_pixel_pass<S: Shader>(
     let shader = input.shader;
     let shaded = if input.wide.avx2.is_some() {
         let wide = input.wide;
-        pass.shade::<8>(
-            target.color,
-            #[inline(always)]
-            |a, count| wide.shade8(shader, a, count),
-        )
+        pass.shade::<8>(target.color, &|a, count, ceiling| {
+            wide.shade8(shader, a, count, ceiling)
+        })
     } else {
-        let zero = phosphor_lighting::f32x4::ZERO;
-        pass.shade::<4>(
-            target.color,
-            #[inline(always)]
-            |a, count| shade_rows(shader, zero, a, count),
-        )
+        pass.shade::<4>(target.color, &|a, count, ceiling| {
+            shade4(shader, a, count, ceiling)
+        })
     };
     (shaded, traced)
 }

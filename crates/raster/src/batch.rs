@@ -7,8 +7,14 @@ use glam::Vec3;
 use phosphor_lighting::Lanes;
 
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::framebuffer::clamp_color_to;
 use crate::shader::{MAX_VARYINGS, Shader, Varyings, interpolated};
+
+/// A shader's pixel stage over `N` pixels' attribute rows, as the by-pixel and multisampled
+/// passes call it: the colours of the first `count` rows (the others repeat the first),
+/// clamped to `[0, ceiling]`. The passes take it as a trait object, called once per `N`
+/// pixels, so that their traversal of the id buffer is compiled once per lane width instead
+/// of once per shader: the per-shader copies made most of the binary's machine code.
+pub(crate) type RowShader<'a, const N: usize> = dyn Fn(&[Attrs; N], usize, f32) -> [Vec3; N] + 'a;
 
 /// Pixels waiting to be shaded `N` at a time, each with where its colour goes: a pixel index
 /// of the band (`usize`), or a multisampled block's samples.
@@ -55,11 +61,12 @@ impl<T: Copy + Default, const N: usize> Pending<T, N> {
     }
 
     /// Shades the waiting entries with `shade` (the colours of the first `count` of `N`
-    /// attribute sets; the others repeat the first) and hands each clamped colour to `write`.
+    /// attribute sets, the others repeating the first, clamped to `[0, ceiling]`: see
+    /// [`shade_rows`]) and hands each colour to `write`.
     #[inline(always)]
     pub fn flush_into(
         &mut self,
-        shade: impl FnOnce(&[Attrs; N], usize) -> [Vec3; N],
+        shade: impl FnOnce(&[Attrs; N], usize, f32) -> [Vec3; N],
         mut write: impl FnMut(T, Vec3),
     ) {
         if self.len == 0 {
@@ -68,10 +75,9 @@ impl<T: Copy + Default, const N: usize> Pending<T, N> {
         for k in self.len..N {
             self.attrs[k] = self.attrs[0];
         }
-        let c = shade(&self.attrs, self.len);
+        let c = shade(&self.attrs, self.len, self.ceiling);
         for k in 0..self.len {
-            debug_assert!(c[k].is_finite(), "non-finite colour {}", c[k]);
-            write(self.idx[k], clamp_color_to(c[k], self.ceiling));
+            write(self.idx[k], c[k]);
         }
         self.len = 0;
     }
@@ -85,7 +91,7 @@ impl<const N: usize> Pending<usize, N> {
         &mut self,
         idx: usize,
         attrs: (&Attrs, f32, usize),
-        shade: impl FnOnce(&[Attrs; N], usize) -> [Vec3; N],
+        shade: impl FnOnce(&[Attrs; N], usize, f32) -> [Vec3; N],
         color: &mut [Vec3],
     ) {
         if self.queue(idx, attrs) {
@@ -97,7 +103,7 @@ impl<const N: usize> Pending<usize, N> {
     #[inline(always)]
     pub fn flush_with(
         &mut self,
-        shade: impl FnOnce(&[Attrs; N], usize) -> [Vec3; N],
+        shade: impl FnOnce(&[Attrs; N], usize, f32) -> [Vec3; N],
         color: &mut [Vec3],
     ) {
         self.flush_into(shade, |i, c| color[i] = c);
@@ -128,18 +134,42 @@ pub(crate) fn varyings_of_rows<S: Shader, L: Lanes, const N: usize>(
     v
 }
 
+/// [`shade_rows`] in four lanes: the one copy of a shader's four-lane pixel stage, which every
+/// pass shading four pixels at a time calls. Not inlined, so that the pixel stage, the
+/// largest code of a shader, is compiled once per shader rather than once per call site.
+#[inline(never)]
+pub(crate) fn shade4<S: Shader>(
+    shader: &S,
+    rows: &[Attrs; 4],
+    count: usize,
+    ceiling: f32,
+) -> [Vec3; 4] {
+    shade_rows(shader, phosphor_lighting::f32x4::ZERO, rows, count, ceiling)
+}
+
 /// The colours of `N` pixels from their attribute rows through [`Shader::pixel`] in lanes of
-/// the kind of `like` (`L::N == N`).
+/// the kind of `like` (`L::N == N`), clamped to `[0, ceiling]` with NaN and `-0.0` as `+0.0`:
+/// the values of [`crate::framebuffer::clamp_color_to`], computed for all lanes at once
+/// rather than for each pixel as it is written.
 #[inline(always)]
 pub(crate) fn shade_rows<S: Shader, L: Lanes, const N: usize>(
     shader: &S,
     like: L,
     rows: &[Attrs; N],
-    _count: usize,
+    count: usize,
+    ceiling: f32,
 ) -> [Vec3; N] {
-    let c = shader
-        .pixel(&varyings_of_rows::<S, L, N>(like, rows))
-        .to_vecs();
+    let c = shader.pixel(&varyings_of_rows::<S, L, N>(like, rows));
+    if cfg!(debug_assertions) {
+        let v = c.to_vecs();
+        for (k, v) in v.iter().enumerate().take(count.min(N)) {
+            assert!(v.is_finite(), "non-finite colour {v} in lane {k}");
+        }
+    }
+    // `max_c` and `min_c` are the scalar selects `x > 0 ? x : 0` and `x < c ? x : c`.
+    let (zero, top) = (like.splat(0.0), like.splat(ceiling));
+    let clamp = |x: L| x.max_c(zero).min_c(top);
+    let c = phosphor_lighting::Vec3s::new(clamp(c.x), clamp(c.y), clamp(c.z)).to_vecs();
     std::array::from_fn(|i| c[i])
 }
 
@@ -154,17 +184,27 @@ pub(crate) struct Wide {
 impl Wide {
     /// The colours of eight pixels: one AVX2 call, or two of four lanes.
     #[inline(always)]
-    pub fn shade8<S: Shader>(self, shader: &S, rows: &[Attrs; 8], count: usize) -> [Vec3; 8] {
+    pub fn shade8<S: Shader>(
+        self,
+        shader: &S,
+        rows: &[Attrs; 8],
+        count: usize,
+        ceiling: f32,
+    ) -> [Vec3; 8] {
         #[cfg(target_arch = "x86_64")]
         if let Some(avx2) = self.avx2 {
-            return avx2.run(Shade8 { shader, rows });
+            return avx2.run(Shade8 {
+                shader,
+                rows,
+                count,
+                ceiling,
+            });
         }
         let half = |at: usize| -> [Attrs; 4] { std::array::from_fn(|i| rows[at + i]) };
-        let zero = phosphor_lighting::f32x4::ZERO;
         let (lo, hi) = (half(0), half(4));
         let (lo, hi) = (
-            shade_rows(shader, zero, &lo, count.min(4)),
-            shade_rows(shader, zero, &hi, count.saturating_sub(4)),
+            shade4(shader, &lo, count.min(4), ceiling),
+            shade4(shader, &hi, count.saturating_sub(4), ceiling),
         );
         std::array::from_fn(|i| if i < 4 { lo[i] } else { hi[i - 4] })
     }
@@ -175,6 +215,8 @@ impl Wide {
 struct Shade8<'a, S> {
     shader: &'a S,
     rows: &'a [Attrs; 8],
+    count: usize,
+    ceiling: f32,
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -182,6 +224,12 @@ impl<S: Shader> phosphor_lighting::Avx2Task for Shade8<'_, S> {
     type Output = [Vec3; 8];
     #[inline(always)]
     fn run(self, s: phosphor_lighting::Avx2) -> [Vec3; 8] {
-        shade_rows(self.shader, s.splat(0.0), self.rows, 8)
+        shade_rows(
+            self.shader,
+            s.splat(0.0),
+            self.rows,
+            self.count,
+            self.ceiling,
+        )
     }
 }

@@ -7,8 +7,8 @@
 
 use glam::Vec3;
 
-use crate::batch::Pending;
-use crate::clip::{Attrs, MAX_ATTRS};
+use crate::batch::{Pending, RowShader};
+use crate::clip::MAX_ATTRS;
 use crate::coverage::lanes;
 use crate::traverse::{Planes, planes_at};
 
@@ -50,11 +50,7 @@ pub(crate) struct ByPixel<'a> {
 impl ByPixel<'_> {
     /// Shades the band's pixels into `color` with `shade` (the colours of the first `count` of
     /// `N` attribute sets), `N` pixels per call; returns the pixels shaded.
-    pub fn shade<const N: usize>(
-        &self,
-        color: &mut [Vec3],
-        shade: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
-    ) -> u64 {
+    pub fn shade<const N: usize>(&self, color: &mut [Vec3], shade: &RowShader<'_, N>) -> u64 {
         match self.block {
             2 => return self.shade_blocks::<N, 2, 4>(color, shade),
             4 => return self.shade_blocks::<N, 4, 16>(color, shade),
@@ -78,7 +74,7 @@ impl ByPixel<'_> {
     fn run<const N: usize, const PERSPECTIVE: bool, const L: usize>(
         &self,
         color: &mut [Vec3],
-        shade4: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
+        shade4: &RowShader<'_, N>,
     ) -> u64 {
         let width = self.width as usize;
         let mut shaded = 0;
@@ -120,11 +116,11 @@ impl ByPixel<'_> {
                 } else {
                     1.0
                 };
-                pending.push(base + x, (&attrs, w, L), &shade4, color);
+                pending.push(base + x, (&attrs, w, L), shade4, color);
                 shaded += 1;
             }
         }
-        pending.flush_with(&shade4, color);
+        pending.flush_with(shade4, color);
         shaded
     }
 }

@@ -6,9 +6,9 @@
 
 use glam::Vec3;
 
-use crate::batch::Pending;
+use crate::batch::{Pending, RowShader};
 use crate::bypixel::ByPixel;
-use crate::clip::{Attrs, MAX_ATTRS};
+use crate::clip::MAX_ATTRS;
 use crate::coverage::lanes;
 use crate::traverse::planes_at;
 
@@ -17,7 +17,7 @@ impl ByPixel<'_> {
     pub(crate) fn shade_blocks<const N: usize, const K: usize, const S: usize>(
         &self,
         color: &mut [Vec3],
-        shade: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
+        shade: &RowShader<'_, N>,
     ) -> u64 {
         match (self.perspective, lanes(self.n)) {
             (true, 0) => self.run_blocks::<N, true, 0, K, S>(color, shade),
@@ -70,7 +70,7 @@ impl ByPixel<'_> {
     >(
         &self,
         color: &mut [Vec3],
-        shade4: impl Fn(&[Attrs; N], usize) -> [Vec3; N],
+        shade4: &RowShader<'_, N>,
     ) -> u64 {
         let kf = K as f64;
         let width = self.width as usize;
@@ -119,7 +119,7 @@ impl ByPixel<'_> {
                         1.0
                     };
                     if pending.queue((base, all), (&attrs, w, L)) {
-                        pending.flush_into(&shade4, |at, c| write_block::<K>(color, width, at, c));
+                        pending.flush_into(shade4, |at, c| write_block::<K>(color, width, at, c));
                     }
                     shaded += 1;
                     continue;
@@ -145,13 +145,13 @@ impl ByPixel<'_> {
                     let (iw, a) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
                     let w = if PERSPECTIVE { (1.0 / iw) as f32 } else { 1.0 };
                     if pending.queue((base, mask), (&a, w, L)) {
-                        pending.flush_into(&shade4, |at, c| write_block::<K>(color, width, at, c));
+                        pending.flush_into(shade4, |at, c| write_block::<K>(color, width, at, c));
                     }
                     shaded += 1;
                 }
             }
         }
-        pending.flush_into(&shade4, |at, c| write_block::<K>(color, width, at, c));
+        pending.flush_into(shade4, |at, c| write_block::<K>(color, width, at, c));
         shaded
     }
 

@@ -15,7 +15,7 @@
 use glam::Vec3;
 use phosphor_lighting::F32x1;
 
-use crate::batch::{Pending, shade_rows};
+use crate::batch::{Pending, shade4};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, lanes, pixel_drawn};
 use crate::framebuffer::clamp_color_to;
@@ -126,9 +126,7 @@ impl<S: Shader> SpanShade for Batched<'_, S> {
     #[inline(always)]
     fn pixel(&mut self, _: &(), idx: usize, a: (&Attrs, f32), _: (i64, i64), c: &mut [Vec3]) {
         let shader = self.shader;
-        let shade = |rows: &[Attrs; 4], count| {
-            shade_rows(shader, phosphor_lighting::f32x4::ZERO, rows, count)
-        };
+        let shade = |rows: &[Attrs; 4], count, ceiling| shade4(shader, rows, count, ceiling);
         self.pending
             .push(idx, (a.0, a.1, lanes(interpolated::<S>())), shade, c);
     }
@@ -137,9 +135,7 @@ impl<S: Shader> SpanShade for Batched<'_, S> {
     #[inline(always)]
     fn flush(&mut self, c: &mut [Vec3]) {
         let shader = self.shader;
-        let shade = |rows: &[Attrs; 4], count| {
-            shade_rows(shader, phosphor_lighting::f32x4::ZERO, rows, count)
-        };
+        let shade = |rows: &[Attrs; 4], count, ceiling| shade4(shader, rows, count, ceiling);
         self.pending.flush_with(shade, c);
     }
 }
