@@ -419,6 +419,32 @@ fn the_grid_shows_around_the_object_and_the_axes_stay_in_their_corner() {
     let grid = changes(&plain, &open("grid.png", &["--grid=0,1,0"]));
     assert!(grid.len() > 30, "{}", grid.len());
     assert!(grid.iter().all(|c| c.3 == [0, 255, 0]));
+    // Over a transparent background the grid's lines are opaque, and only they and the cube.
+    let mut args = CUBE[..4].to_vec();
+    args.extend_from_slice(&["--aa", "off", "--grid=0,1,0", "--background", "transparent"]);
+    let clear = image::open(render(&d, "clear.png", &args))
+        .unwrap()
+        .to_rgba8();
+    let plain_clear = {
+        let mut args = CUBE[..4].to_vec();
+        args.extend_from_slice(&["--aa", "off", "--background", "transparent"]);
+        image::open(render(&d, "plain_clear.png", &args))
+            .unwrap()
+            .to_rgba8()
+    };
+    let on_grid = |x, y| grid.iter().any(|c| (c.0, c.1) == (x, y));
+    let mut lines = 0;
+    for (x, y, p) in clear.enumerate_pixels() {
+        if plain_clear.get_pixel(x, y).0[3] == 255 {
+            assert_eq!(p.0[3], 255, "({x}, {y}): the cube");
+        } else if on_grid(x, y) {
+            assert_eq!(p.0, [0, 255, 0, 255], "({x}, {y}): a grid line");
+            lines += 1;
+        } else {
+            assert_eq!(p.0, [0, 0, 0, 0], "({x}, {y}): the background");
+        }
+    }
+    assert!(lines > 30, "{lines}");
     let axes = changes(&plain, &open("axes.png", &["--axes"]));
     assert!(axes.len() >= 6, "{}", axes.len());
     // 64x48: the triad's arms are 6 pixels long from (9, 39).

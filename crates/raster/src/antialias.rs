@@ -212,6 +212,7 @@ pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, thre
     );
     out.clean = clean;
     out.pending_clear = None;
+    out.overlay = None;
     out.dirty = drawn;
 }
 

@@ -59,6 +59,11 @@ pub struct Framebuffer {
     pub(crate) samples: Option<Box<Framebuffer>>,
     /// The largest intensity a pixel keeps: 1, or [`HDR_MAX`] ([`Framebuffer::set_hdr`]).
     pub(crate) ceiling: f32,
+    /// Per pixel, the share of what lies under the overlays that shows through them: the
+    /// product of `1 - w` over the strokes [`Framebuffer::blend`] drew since the last clear,
+    /// so that [`Framebuffer::alpha`] counts a grid line over a transparent background as
+    /// opaque. `None` until an overlay is drawn.
+    pub(crate) overlay: Option<Vec<f32>>,
 }
 
 /// A row with no pixel written since the last clear (see [`Framebuffer`]'s `dirty`).
@@ -118,6 +123,7 @@ impl Framebuffer {
             dirty: vec![CLEAN_ROW; height as usize],
             samples: None,
             ceiling: 1.0,
+            overlay: None,
         })
     }
 
@@ -177,8 +183,9 @@ impl Framebuffer {
     }
 
     /// Per pixel, its opacity over a background of opacity `background` (clamped to
-    /// `[0, 1]`, NaN as 0): `c + (1 - c) * background` for the pixel's
-    /// [`Framebuffer::coverage`] `c`. Drawn over a background cleared to its colour times
+    /// `[0, 1]`, NaN as 0): `a = c + (1 - c) * background` for the pixel's
+    /// [`Framebuffer::coverage`] `c`, and under overlay strokes of weights `w` (the wireframe,
+    /// the grid, the axes) `1 - (1 - a) * product(1 - w)`, as they are blended over it. Drawn over a background cleared to its colour times
     /// its opacity, the pixels then hold colours premultiplied by this alpha, as the
     /// resolve averages colour and coverage alike: a pixel half covered over a transparent
     /// background has alpha 0.5 and half the surface's colour.
@@ -192,6 +199,11 @@ impl Framebuffer {
         let mut alpha = self.coverage();
         for a in &mut alpha {
             *a += (1.0 - *a) * b;
+        }
+        if let Some(through) = &self.overlay {
+            for (a, t) in alpha.iter_mut().zip(through) {
+                *a = 1.0 - (1.0 - *a) * t;
+            }
         }
         alpha
     }
@@ -223,11 +235,13 @@ impl Framebuffer {
         );
         self.clean = Some(bg);
         self.pending_clear = None;
+        self.overlay = None;
     }
 
     /// Defers [`Framebuffer::clear`] to the next banded draw (the renderer's own use).
     pub(crate) fn defer_clear(&mut self, background: Vec3) {
         self.pending_clear = Some(clamp_color_to(background, self.ceiling));
+        self.overlay = None;
     }
 
     /// Drops the sample image an anti-aliased frame keeps for reuse.
@@ -271,9 +285,12 @@ impl Framebuffer {
     /// clamped to the framebuffer's range, and counts the pixel as written since the last
     /// clear: an overlay drawn over the background must survive the next partial clear and
     /// the background fill of [`Framebuffer::write_0rgb`]. Depth is left as drawn, and so is
-    /// coverage.
+    /// coverage; the stroke's opacity is kept for [`Framebuffer::alpha`].
     pub(crate) fn blend(&mut self, x: usize, y: usize, color: Vec3, w: f32) {
         let at = y * self.width as usize + x;
+        let n = self.color.len();
+        let through = self.overlay.get_or_insert_with(|| vec![1.0; n]);
+        through[at] *= 1.0 - w;
         // Exactly `color` at `w = 1` (and the pixel at `w = 0`), as `c + (color - c) * w` is not.
         let c = self.color[at];
         self.color[at] = clamp_color_to(c * (1.0 - w) + color * w, self.ceiling);

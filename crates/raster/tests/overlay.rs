@@ -492,3 +492,45 @@ fn grid_steps_are_round_and_never_below_an_eighth_of_the_scene() {
         );
     }
 }
+
+#[test]
+fn overlay_strokes_are_opaque_in_alpha_until_the_next_frame() {
+    let mut fb = Framebuffer::new(200, 100).unwrap();
+    let front = Camera::s1();
+    let (ox, oy) = (9usize, 91usize);
+    let length = (100.0f32 * 0.06).round() as usize;
+    // Exact lines: alpha 1 on the x axis' pixels, 0 where nothing was drawn.
+    overlay::axes(&mut fb, &front, false);
+    let alpha = fb.alpha(0.0);
+    for k in 0..length {
+        assert_eq!(alpha[oy * 200 + ox + k], 1.0, "x at {k}");
+    }
+    assert_eq!(alpha[50 * 200 + 100], 0.0);
+    // Smooth lines over a black, transparent background, seen at a slant: the pixels hold
+    // colours premultiplied by their alpha (no channel above it, every axis colour's channels
+    // being at most 1), alpha is 0 exactly where nothing was drawn, and steps shared between
+    // two pixels leave alphas strictly between 0 and 1.
+    fb.clear(Vec3::ZERO);
+    assert!(fb.alpha(0.0).iter().all(|&a| a == 0.0));
+    let slant = Camera {
+        eye: Vec3::new(3.0, 2.0, 4.0),
+        target: Vec3::ZERO,
+        ..Camera::s1()
+    };
+    assert!(overlay::axes(&mut fb, &slant, true) > 0);
+    let alpha = fb.alpha(0.0);
+    let mut partial = 0;
+    for (i, &a) in alpha.iter().enumerate() {
+        let c = fb.color()[i];
+        assert!((0.0..=1.0).contains(&a), "{i}: {a}");
+        assert_eq!(a == 0.0, c == Vec3::ZERO, "{i}: {a} {c}");
+        assert!(c.max_element() <= a + 1e-6, "{i}: {a} {c}");
+        partial += usize::from(a > 0.0 && a < 1.0);
+    }
+    assert!(partial > 4, "{partial}");
+    // Over an opaque background nothing changes: alpha is 1 everywhere.
+    assert!(fb.alpha(1.0).iter().all(|&a| a == 1.0));
+    // The next frame's clear (deferred to the render) forgets the strokes.
+    phosphor_raster::render(&mut fb, &front, &[], &RenderOptions::default());
+    assert!(fb.alpha(0.0).iter().all(|&a| a == 0.0));
+}
