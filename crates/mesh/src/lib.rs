@@ -132,12 +132,14 @@ pub mod triangulate;
 pub use assets::{allow_outside_assets, asset_path, read_asset};
 pub use build::TriangleSoup;
 pub use error::MeshError;
-pub use formats::{MeshFormat, load_mesh, load_mesh_with_warnings, parse_mesh_bytes};
+pub use formats::{
+    MeshFormat, gltf_uri_bytes, load_mesh, load_mesh_with_warnings, parse_mesh_bytes,
+};
 pub use loader::{
     MAX_MTL_BYTES, MAX_WARNING_CHARS, load_obj, load_obj_with_warnings, parse_obj,
     parse_obj_with_warnings,
 };
-pub use mesh::{Mesh, MtlMaterial};
+pub use mesh::{Mesh, MtlMaterial, unit_fit};
 pub use normals::{NormalOptions, NormalSource, Weighting, triangle_normal_f64};
 pub use open::{MAX_LINE_BYTES, MAX_MESH_FILE_BYTES, read_file, read_text};
 pub use stats::MeshStats;

@@ -81,6 +81,38 @@ pub struct Mesh {
     pub groups: Vec<String>,
 }
 
+/// The centre of the bounding box of `positions` and the uniform scale that brings the
+/// farthest of them to distance 1 from it, in `f64`: what [`Mesh::normalize_unit`] applies,
+/// and what a scene fits several meshes' world positions with. The scale is 1 when every
+/// position coincides (or a distance is not finite), and the centre the origin when there
+/// is none.
+///
+/// ```
+/// use glam::{DVec3, Vec3};
+/// let (centre, scale) = phosphor_mesh::unit_fit(&[Vec3::new(-1.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0)]);
+/// assert_eq!((centre, scale), (DVec3::new(1.0, 0.0, 0.0), 0.5));
+/// ```
+#[must_use]
+pub fn unit_fit(positions: &[Vec3]) -> (glam::DVec3, f64) {
+    let Some(&first) = positions.first() else {
+        return (glam::DVec3::ZERO, 1.0);
+    };
+    let (lo, hi) = positions
+        .iter()
+        .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let centre = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
+    let farthest = positions
+        .iter()
+        .map(|p| (p.as_dvec3() - centre).length())
+        .fold(0.0_f64, f64::max);
+    let scale = if farthest > 0.0 && farthest.is_finite() {
+        1.0 / farthest
+    } else {
+        1.0
+    };
+    (centre, scale)
+}
+
 impl Mesh {
     /// Number of triangles.
     #[must_use]
@@ -122,18 +154,7 @@ impl Mesh {
     /// vertex is at distance 1 (S1, docs/conventions.md). Normals and tangents are unchanged (a
     /// uniform scale keeps directions). A mesh whose vertices all coincide is only translated.
     pub fn normalize_unit(&mut self) {
-        let (lo, hi) = self.bounds();
-        let centre = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
-        let farthest = self
-            .positions
-            .iter()
-            .map(|p| (p.as_dvec3() - centre).length())
-            .fold(0.0_f64, f64::max);
-        let scale = if farthest > 0.0 && farthest.is_finite() {
-            1.0 / farthest
-        } else {
-            1.0
-        };
+        let (centre, scale) = unit_fit(&self.positions);
         for p in &mut self.positions {
             *p = ((p.as_dvec3() - centre) * scale).as_vec3();
         }

@@ -11,6 +11,7 @@
 //! (`facet 12`, `face 7 of 40`, `meshes[0].primitives[1]`), then what is wrong.
 
 mod gltf;
+pub use gltf::gltf_uri_bytes;
 mod ply;
 mod stl;
 

@@ -292,25 +292,9 @@ pub fn load_gltf(
     })
 }
 
-/// The centre of the bounds and the scale that brings the farthest point to 1, as
-/// [`phosphor_mesh::Mesh::normalize_unit`] finds them.
+/// The centre and scale of [`phosphor_mesh::unit_fit`], in the single precision of poses.
 fn fit_of(positions: &[Vec3]) -> (Vec3, f32) {
-    let Some(&first) = positions.first() else {
-        return (Vec3::ZERO, 1.0);
-    };
-    let (lo, hi) = positions
-        .iter()
-        .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
-    let centre = (lo.as_dvec3() + hi.as_dvec3()) * 0.5;
-    let farthest = positions
-        .iter()
-        .map(|p| (p.as_dvec3() - centre).length())
-        .fold(0.0_f64, f64::max);
-    let scale = if farthest > 0.0 && farthest.is_finite() {
-        1.0 / farthest
-    } else {
-        1.0
-    };
+    let (centre, scale) = phosphor_mesh::unit_fit(positions);
     (centre.as_vec3(), scale as f32)
 }
 
@@ -484,17 +468,8 @@ impl Buffers<'_> {
                     .blob
                     .map(<[u8]>::to_vec)
                     .ok_or_else(|| format!("buffers[{b}]: no uri and no GLB binary chunk"))?,
-                Some(uri) if uri.starts_with("data:") => {
-                    let (_, payload) = uri
-                        .split_once(";base64,")
-                        .ok_or_else(|| format!("buffers[{b}]: a data URI must be base64"))?;
-                    base64(payload).ok_or_else(|| format!("buffers[{b}]: bad base64"))?
-                }
-                Some(uri) => {
-                    let rel = percent_decoded(uri);
-                    (self.read)(&rel)
-                        .map_err(|e| format!("buffers[{b}]: {rel}: cannot read: {e}"))?
-                }
+                Some(uri) => phosphor_mesh::gltf_uri_bytes(uri, self.read)
+                    .map_err(|e| format!("buffers[{b}]: {e}"))?,
             };
             if (data.len() as u64) < buffer.byte_length.0 {
                 return Err(format!(
@@ -605,57 +580,6 @@ impl Buffers<'_> {
         }
         Ok(out)
     }
-}
-
-/// Decodes standard base64 (padding optional); `None` on any other character.
-fn base64(text: &str) -> Option<Vec<u8>> {
-    let value = |c: u8| -> Option<u32> {
-        Some(match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => return None,
-        } as u32)
-    };
-    let digits = text.trim_end_matches('=').as_bytes();
-    let mut out = Vec::with_capacity(digits.len() * 3 / 4);
-    for chunk in digits.chunks(4) {
-        let mut acc = 0u32;
-        for (i, &c) in chunk.iter().enumerate() {
-            acc |= value(c)? << (18 - 6 * i);
-        }
-        let bytes = acc.to_be_bytes();
-        match chunk.len() {
-            4 => out.extend_from_slice(&bytes[1..4]),
-            3 => out.extend_from_slice(&bytes[1..3]),
-            2 => out.push(bytes[1]),
-            _ => return None,
-        }
-    }
-    Some(out)
-}
-
-/// A URI's `%XX` escapes decoded (a bad escape is kept as written).
-fn percent_decoded(uri: &str) -> String {
-    let b = uri.as_bytes();
-    let mut out = Vec::with_capacity(b.len());
-    let mut i = 0;
-    while i < b.len() {
-        let hex = |c: u8| (c as char).to_digit(16);
-        if b[i] == b'%'
-            && i + 2 < b.len()
-            && let (Some(h), Some(l)) = (hex(b[i + 1]), hex(b[i + 2]))
-        {
-            out.push((h * 16 + l) as u8);
-            i += 3;
-        } else {
-            out.push(b[i]);
-            i += 1;
-        }
-    }
-    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// Turns the first animation's channels into [`Tracks`] on the kept nodes.
@@ -794,21 +718,6 @@ fn animate(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn base64_decodes_with_and_without_padding() {
-        assert_eq!(base64("aGVsbG8=").as_deref(), Some(&b"hello"[..]));
-        assert_eq!(base64("aGVsbG8").as_deref(), Some(&b"hello"[..]));
-        assert_eq!(base64("aGk=").as_deref(), Some(&b"hi"[..]));
-        assert_eq!(base64("AAAA").as_deref(), Some(&[0u8, 0, 0][..]));
-        assert_eq!(base64("a*b="), None);
-    }
-
-    #[test]
-    fn percent_escapes_are_decoded() {
-        assert_eq!(percent_decoded("a%20b.bin"), "a b.bin");
-        assert_eq!(percent_decoded("100%"), "100%");
-    }
 
     #[test]
     fn fit_matches_the_meshes_normalization() {

@@ -38,6 +38,7 @@ mod attributes;
 mod material;
 mod nodes;
 mod uri;
+pub use uri::uri_bytes as gltf_uri_bytes;
 
 use accessor::{
     COLOR_TYPES, INDEX_TYPES, TANGENT_TYPES, UV_TYPES, VEC3_F32, check_accessor,

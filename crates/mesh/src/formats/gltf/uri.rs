@@ -101,9 +101,18 @@ pub(super) fn resolve_uri(uri: &str) -> Result<UriTarget, String> {
     Ok(UriTarget::Relative(path))
 }
 
-/// A buffer's bytes from its URI: a base64 `data:` URI, or a file relative to the glTF read
-/// through `read_relative` (which confines it).
-pub(super) fn uri_bytes(
+/// The bytes a glTF buffer's URI names: a base64 `data:` URI decoded, or a file relative to
+/// the glTF (its `%XX` escapes decoded) read through `read_relative`, which confines it. A URI
+/// with a scheme (`http:`, `file:`) or an absolute path is refused, never fetched. The error
+/// is the reason, for a message that names the element.
+///
+/// ```
+/// let never = |_: &str| -> std::io::Result<Vec<u8>> { unreachable!() };
+/// let bytes = phosphor_mesh::gltf_uri_bytes("data:application/octet-stream;base64,AAECAw==", &never);
+/// assert_eq!(bytes.unwrap(), [0, 1, 2, 3]);
+/// assert!(phosphor_mesh::gltf_uri_bytes("http://example.invalid/a.bin", &never).is_err());
+/// ```
+pub fn uri_bytes(
     uri: &str,
     read_relative: &dyn Fn(&str) -> std::io::Result<Vec<u8>>,
 ) -> Result<Vec<u8>, String> {
