@@ -84,7 +84,9 @@ pub use components::{
 };
 pub use error::SceneError;
 pub use error_bound::{ErrorBounds, shading_error_bounds};
-pub use file::load::{Disk, Files, MAX_SCENE_BYTES, load_scene, parse_scene};
+pub use file::load::{
+    Disk, Files, MAX_SCENE_BYTES, image_files, load_scene, load_scene_noting, parse_scene,
+};
 pub use file::save::{save_scene, scene_to_toml};
 pub use plan::{
     AUTO_TOLERANCE, AutoInput, FrameOptions, FramePlan, PlannedObject, linear_tolerance,

@@ -205,3 +205,54 @@ fn a_gltf_with_a_jpeg_texture_shows_it_times_its_colour_factor() {
         );
     }
 }
+
+#[test]
+fn a_scene_notes_every_file_it_was_made_from_for_live_reload() {
+    let dir = temp_dir("noting");
+    checker_image(16).save(dir.join("c.png")).unwrap();
+    image::RgbImage::from_pixel(4, 4, image::Rgb([128, 128, 255]))
+        .save(dir.join("n.png"))
+        .unwrap();
+    std::fs::write(
+        dir.join("quad.mtl"),
+        "newmtl m\nKd 1 1 1\nmap_Kd c.png\nnorm n.png\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("quad.obj"),
+        "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
+         vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nusemtl m\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n",
+    )
+    .unwrap();
+    let path = scene_file(&dir, "quad.obj");
+    let (scene, files) = phosphor_scene::load_scene_noting(&path);
+    let scene = scene.unwrap();
+    let want: std::collections::BTreeSet<PathBuf> =
+        ["quad.obj.toml", "quad.obj", "quad.mtl", "c.png", "n.png"]
+            .iter()
+            .map(|f| dir.join(f))
+            .collect();
+    assert_eq!(files, want);
+    assert_eq!(
+        phosphor_scene::image_files(&scene),
+        want.iter()
+            .filter(|f| f.extension().is_some_and(|e| e == "png"))
+            .cloned()
+            .collect()
+    );
+    // A scene that fails still names what it read up to the error: here the mesh it could
+    // not find, so that creating it reloads the scene.
+    std::fs::remove_file(dir.join("quad.obj")).unwrap();
+    let (scene, files) = phosphor_scene::load_scene_noting(&path);
+    assert!(scene.is_err());
+    assert!(
+        files.contains(&path) && files.contains(&dir.join("quad.obj")),
+        "{files:?}"
+    );
+    // And a scene file that does not parse names itself.
+    std::fs::write(&path, "[[objects]\n").unwrap();
+    let (scene, files) = phosphor_scene::load_scene_noting(&path);
+    assert!(scene.is_err());
+    assert_eq!(files, std::collections::BTreeSet::from([path.clone()]));
+    let _ = std::fs::remove_dir_all(&dir);
+}

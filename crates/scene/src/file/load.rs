@@ -1,5 +1,6 @@
 //! Scene files (TOML) to a [`Scene`]: every field checked, every error naming its field.
 
+use std::cell::RefCell;
 use std::collections::{BTreeMap, BTreeSet, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -225,6 +226,11 @@ pub fn parse_scene(
 /// Loads a scene file from disk: a regular file of at most [`MAX_SCENE_BYTES`], opened
 /// without blocking, as are the files it names ([`Disk`]).
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    read_scene_with(path, &Disk)
+}
+
+/// [`load_scene`] reading the files the scene names through `files`.
+fn read_scene_with(path: &Path, files: &dyn Files) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
     let text =
         phosphor_mesh::read_text(path, MAX_SCENE_BYTES).map_err(|source| SceneError::Io {
@@ -232,9 +238,75 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
             source,
         })?;
     let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let mut scene = parse_scene(&text, &file, &dir, &Disk)?;
+    let mut scene = parse_scene(&text, &file, &dir, files)?;
     scene.source = Some(path.to_path_buf());
     Ok(scene)
+}
+
+/// The disk, noting every path the loader asks for (read, or checked for), so that a
+/// viewer knows which files to watch: [`load_scene_noting`].
+struct Noting {
+    paths: RefCell<BTreeSet<PathBuf>>,
+}
+
+impl Noting {
+    fn note(&self, path: &Path) {
+        self.paths.borrow_mut().insert(path.to_path_buf());
+    }
+}
+
+impl Files for Noting {
+    fn read_text(&self, path: &Path) -> std::io::Result<String> {
+        self.note(path);
+        Disk.read_text(path)
+    }
+    fn read_bytes(&self, path: &Path) -> std::io::Result<Vec<u8>> {
+        self.note(path);
+        Disk.read_bytes(path)
+    }
+    fn read_asset(&self, mesh: &Path, rel: &str) -> std::io::Result<Vec<u8>> {
+        self.note(&mesh.parent().unwrap_or(Path::new("")).join(rel));
+        Disk.read_asset(mesh, rel)
+    }
+    fn exists(&self, path: &Path) -> bool {
+        self.note(path);
+        Disk.exists(path)
+    }
+}
+
+/// [`load_scene`], returning with the scene (or the error) every file it was made from,
+/// whether or not each could be read: the scene file, its meshes, their MTL files and glTF
+/// buffers, the images the scene names, and the images the meshes' materials name. A viewer
+/// watches them to load the scene again when one changes; after an error they are the
+/// files read until it, the scene file always among them.
+pub fn load_scene_noting(path: &Path) -> (Result<Scene, SceneError>, BTreeSet<PathBuf>) {
+    let noting = Noting {
+        paths: RefCell::new(BTreeSet::from([path.to_path_buf()])),
+    };
+    let scene = read_scene_with(path, &noting);
+    let mut files = noting.paths.into_inner();
+    if let Ok(scene) = &scene {
+        files.extend(image_files(scene));
+    }
+    (scene, files)
+}
+
+/// The image files that the materials of the scene's meshes name (MTL `map_Kd` and `norm`,
+/// glTF images stored beside the file), whether or not they could be read.
+#[must_use]
+pub fn image_files(scene: &Scene) -> BTreeSet<PathBuf> {
+    let mut files = BTreeSet::new();
+    for m in scene.world.query::<&MeshRef>().iter() {
+        for material in &m.0.mesh.materials {
+            let normal = material.normal_map.as_ref().map(|(t, _)| t);
+            for t in [material.kd_map.as_ref(), normal].into_iter().flatten() {
+                if let phosphor_mesh::TextureSource::File(p) = &t.source {
+                    files.insert(p.clone());
+                }
+            }
+        }
+    }
+    files
 }
 
 fn render_settings(r: &Fields<'_>) -> Result<RenderSettings, SceneError> {
