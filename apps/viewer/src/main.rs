@@ -20,36 +20,88 @@ mod args;
 mod input;
 mod view;
 mod viewer;
+mod watch;
 mod window;
 
+use std::collections::BTreeSet;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{CommandFactory, Parser};
 use phosphor_output::{memory, term};
 use phosphor_raster::Antialias;
+use phosphor_scene::view::CameraOverride;
 use phosphor_scene::{Scene, ShadingChoice};
 
 use crate::args::Args;
 use crate::input::key_help;
-use crate::viewer::{DEFAULT_STILL_ANTIALIAS, Viewer, bytes_per_pixel};
+use crate::viewer::{DEFAULT_STILL_ANTIALIAS, Reload, Viewer, bytes_per_pixel};
 use crate::window::{WindowError, WindowOptions};
 
 /// Window size when neither `--size` nor the scene gives one.
 const DEFAULT_SIZE: (u32, u32) = (960, 540);
 
-/// The scene named on the command line (a `--mesh` under S1's lights, with the normals its
-/// flags ask for), or the embedded default.
-fn load(args: &Args, normals: phosphor_mesh::NormalOptions) -> Result<Scene, String> {
-    let scene = match (&args.scene, &args.mesh) {
-        (Some(p), _) => Scene::load(p),
-        (None, Some(m)) => Scene::s1_lights_with_mesh(m, normals),
-        (None, None) => Scene::default_scene(),
+/// Why [`load`] made no scene.
+enum Failure {
+    /// A camera flag that cannot be applied (exit status 2).
+    Usage(String),
+    /// The scene or mesh could not be loaded (exit status 1).
+    Load(String),
+}
+
+impl Failure {
+    fn message(self) -> String {
+        match self {
+            Failure::Usage(e) | Failure::Load(e) => e,
+        }
     }
-    .map_err(|e| e.to_string())?;
+}
+
+/// What the command line asks to show, as [`load`] makes it.
+struct Source {
+    scene: Option<PathBuf>,
+    mesh: Option<PathBuf>,
+    normals: phosphor_mesh::NormalOptions,
+    background: Option<phosphor_args::Background>,
+    camera: phosphor_args::CameraArgs,
+    change: CameraOverride,
+    size: (u32, u32),
+}
+
+/// The scene named on the command line (a `--mesh` under S1's lights, with the normals its
+/// flags ask for), or the embedded default, with the background and camera flags applied and
+/// its warnings printed; and the files it was made from, for live reload (none for the
+/// embedded scene).
+fn load(src: &Source) -> (Result<Scene, Failure>, BTreeSet<PathBuf>) {
+    let (scene, files) = match (&src.scene, &src.mesh) {
+        (Some(p), _) => phosphor_scene::load_scene_noting(p),
+        (None, Some(m)) => {
+            let scene = Scene::s1_lights_with_mesh(m, src.normals);
+            let mut files = BTreeSet::from([m.clone()]);
+            if let Ok(scene) = &scene {
+                files.extend(phosphor_scene::image_files(scene));
+            }
+            (scene, files)
+        }
+        (None, None) => (Scene::default_scene(), BTreeSet::new()),
+    };
+    let mut scene = match scene {
+        Ok(scene) => scene,
+        Err(e) => return (Err(Failure::Load(e.to_string())), files),
+    };
     for w in &scene.warnings {
         term::warn(w);
     }
-    Ok(scene)
+    if let Some(background) = src.background {
+        background.apply(&mut scene);
+    }
+    let frame_mesh = src.scene.is_none() && src.mesh.is_some();
+    let framed =
+        phosphor_args::frame_and_apply(&mut scene, &src.camera, &src.change, frame_mesh, src.size);
+    match framed {
+        Ok(()) => (Ok(scene), files),
+        Err(e) => (Err(Failure::Usage(e)), files),
+    }
 }
 
 /// One `error:` line on stderr and exit status 1.
@@ -108,21 +160,32 @@ fn main() -> ExitCode {
     if let Err(e) = memory::check_image(field, size, aa_bytes) {
         return fail(&e);
     }
-    let mut scene = match load(&args, normals) {
-        Ok(s) => s,
-        Err(e) => return fail(&e),
+    let source = Source {
+        scene: args.scene.clone(),
+        mesh: args.mesh.clone(),
+        normals,
+        background: args.background,
+        camera: args.camera.clone(),
+        change,
+        size,
     };
-    if let Some(background) = args.background {
-        background.apply(&mut scene);
-    }
-    let size = args.size.unwrap_or(DEFAULT_SIZE);
-    let frame_mesh = args.scene.is_none() && args.mesh.is_some();
-    if let Err(e) =
-        phosphor_args::frame_and_apply(&mut scene, &args.camera, &change, frame_mesh, size)
-    {
-        return usage(e);
-    }
+    let (scene, files) = load(&source);
+    let scene = match scene {
+        Ok(s) => s,
+        Err(Failure::Usage(e)) => return usage(e),
+        Err(Failure::Load(e)) => return fail(&e),
+    };
     let mut viewer = Viewer::new(scene);
+    if !files.is_empty() {
+        viewer.reload = Some(Reload {
+            load: Box::new(move || {
+                let (scene, files) = load(&source);
+                (scene.map_err(Failure::message), files)
+            }),
+            files,
+            error: None,
+        });
+    }
     viewer.window_size = size;
     viewer.scene_file = args.scene.clone();
     viewer.mesh_file = args.mesh.clone();

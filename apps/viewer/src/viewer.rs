@@ -2,6 +2,7 @@
 //! framebuffer reused from frame to frame; what is drawn and how the title describes it. The
 //! keys' actions are applied in `actions.rs`.
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -106,6 +107,23 @@ pub struct Viewer {
     pub clock: Clock,
     /// Warnings already printed (each once, not once per frame).
     pub told: Vec<String>,
+    /// How to load the scene again when its files change (live reload); `None` for the
+    /// embedded default scene.
+    pub reload: Option<Reload>,
+}
+
+/// Loads a scene again, with the files it was made from (see [`Reload`]).
+pub type LoadAgain = Box<dyn Fn() -> (Result<Scene, String>, BTreeSet<PathBuf>)>;
+
+/// Live reload: how the scene is made again, the files it was made from (watched), and the
+/// last reload's error, which the title shows until a reload succeeds.
+pub struct Reload {
+    /// Loads the scene again as the command line asked (its warnings printed).
+    pub load: LoadAgain,
+    /// The files to watch.
+    pub files: BTreeSet<PathBuf>,
+    /// Why the last reload failed, if it did.
+    pub error: Option<String>,
 }
 
 /// The viewer's clock (Space plays and pauses, `[` and `]` scrub): the scene is posed at
@@ -173,7 +191,45 @@ impl Viewer {
             total_ms: 0.0,
             clock: Clock::default(),
             told: Vec::new(),
+            reload: None,
         }
+    }
+
+    /// Loads the scene again after one of its files changed, keeping the view: the orbit,
+    /// the projection, the clock and every choice made with keys stay as they are, and `R`
+    /// returns to the new scene's camera. A scene that fails to load leaves the last good one
+    /// on screen; the error is printed and shown in the title until a reload succeeds, and
+    /// the files it read are watched too (so creating a missing mesh reloads). Returns
+    /// whether there was a scene to load again.
+    pub fn reload_scene(&mut self) -> bool {
+        let Some(reload) = &mut self.reload else {
+            return false;
+        };
+        let (scene, files) = (reload.load)();
+        match scene {
+            Ok(scene) => {
+                reload.files = files;
+                reload.error = None;
+                term::tell(&format!(
+                    "reloaded {}",
+                    scene
+                        .source
+                        .as_ref()
+                        .map_or("the scene".to_owned(), |p| p.display().to_string())
+                ));
+                self.home = scene.camera();
+                self.scene = scene;
+                self.told.clear();
+            }
+            Err(e) => {
+                reload.files.extend(files);
+                term::tell(&format!(
+                    "error: reload failed, the last good scene stays: {e}"
+                ));
+                reload.error = Some(e);
+            }
+        }
+        true
     }
 
     /// Whether the scene has anything that moves with its clock.
@@ -333,7 +389,11 @@ impl View for Viewer {
             .shading
             .map_or("scene's own (auto)".to_owned(), |s| s.name().to_owned());
         format!(
-            "Phosphor | {}{mode}{}{}{}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            "Phosphor | {}{}{mode}{}{}{}{}{}{}{}{}{} | {:.1} ms ({:.0} fps) | {} triangles | H: keys",
+            match self.reload.as_ref().and_then(|r| r.error.as_ref()) {
+                Some(e) => format!("reload failed: {e} | "),
+                None => String::new(),
+            },
             if self.animated() {
                 format!(
                     "t {:.2} s {} | ",
@@ -404,6 +464,16 @@ impl View for Viewer {
         self.refine_next = true;
     }
 
+    fn watched(&self) -> BTreeSet<PathBuf> {
+        self.reload
+            .as_ref()
+            .map_or_else(BTreeSet::new, |r| r.files.clone())
+    }
+
+    fn reload(&mut self) -> bool {
+        self.reload_scene()
+    }
+
     fn save_screenshot(&self, path: &Path) -> Result<(), String> {
         let fb = self.fb.as_ref().ok_or("no frame drawn yet")?;
         // The window shows sRGB (Framebuffer::write_0rgb); the screenshot holds the same
@@ -445,6 +515,84 @@ mod tests {
     #![allow(clippy::unwrap_used)]
 
     use super::*;
+
+    /// A sphere in front of S1's camera, lit from the front, in material colour `kd`.
+    fn sphere_scene(kd: [f32; 3]) -> String {
+        format!(
+            "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nintensity = 1\n\
+             [materials.m]\nka = 0\nkd = {kd:?}\nks = 0\n\
+             [[objects]]\nname = \"ball\"\nmaterial = \"m\"\n\
+             primitive = {{ shape = \"sphere\", radius = 1.0, segments = 16, rings = 8 }}\n"
+        )
+    }
+
+    /// The centre pixel of a 32x24 frame, as 0x00RRGGBB channels.
+    fn centre(viewer: &mut Viewer) -> [u32; 3] {
+        let mut out = vec![0u32; 32 * 24];
+        viewer.draw(32, 24, &mut out).unwrap();
+        let p = out[12 * 32 + 16];
+        [(p >> 16) & 255, (p >> 8) & 255, p & 255]
+    }
+
+    #[test]
+    fn a_reload_keeps_the_view_and_a_failed_one_keeps_the_last_good_scene() {
+        let dir =
+            std::env::temp_dir().join(format!("phosphor-viewer-reload-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("scene.toml");
+        std::fs::write(&path, sphere_scene([0.9, 0.0, 0.0])).unwrap();
+        let again = path.clone();
+        let load: LoadAgain = Box::new(move || {
+            let (scene, files) = phosphor_scene::load_scene_noting(&again);
+            (scene.map_err(|e| e.to_string()), files)
+        });
+        let (scene, files) = load();
+        let mut viewer = Viewer::new(scene.unwrap());
+        viewer.reload = Some(Reload {
+            load,
+            files,
+            error: None,
+        });
+        assert_eq!(viewer.watched(), BTreeSet::from([path.clone()]));
+        let [r, _, b] = centre(&mut viewer);
+        assert!(r > 4 * b.max(1), "red first: {r} {b}");
+        viewer.apply(Action::Orbit { dx: 3.0, dy: 2.0 }, 24);
+        let view = viewer.camera();
+        // The material changed on disk: the new scene, the same view.
+        std::fs::write(&path, sphere_scene([0.0, 0.0, 0.9])).unwrap();
+        assert!(viewer.reload());
+        assert_eq!(viewer.camera(), view);
+        let [r, _, b] = centre(&mut viewer);
+        assert!(b > 4 * r.max(1), "blue after the reload: {r} {b}");
+        assert!(!viewer.title().contains("reload failed"));
+        // A scene that no longer loads: the last good one stays, the title says why.
+        std::fs::write(&path, "[[objects]\n").unwrap();
+        assert!(viewer.reload());
+        let error = viewer
+            .reload
+            .as_ref()
+            .and_then(|r| r.error.clone())
+            .unwrap();
+        assert!(error.contains("scene.toml"), "{error}");
+        assert!(
+            viewer.title().contains("reload failed"),
+            "{}",
+            viewer.title()
+        );
+        let [r, _, b] = centre(&mut viewer);
+        assert!(b > 4 * r.max(1), "still blue: {r} {b}");
+        assert_eq!(viewer.camera(), view);
+        // Fixed again: the error is gone.
+        std::fs::write(&path, sphere_scene([0.0, 0.9, 0.0])).unwrap();
+        assert!(viewer.reload());
+        assert!(!viewer.title().contains("reload failed"));
+        let [r, g, _] = centre(&mut viewer);
+        assert!(g > 4 * r.max(1), "green: {r} {g}");
+        // The embedded scene has nothing to reload.
+        let mut embedded = Viewer::new(Scene::default_scene().unwrap());
+        assert!(embedded.watched().is_empty() && !embedded.reload());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     #[test]
     fn the_printed_camera_block_loads_back_to_the_view_on_screen() {

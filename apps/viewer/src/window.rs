@@ -8,6 +8,7 @@
 //! [`View::wants_refinement`]) gets one more, refined frame after [`IDLE_DELAY`] without input. What is drawn is up to a [`View`] (implemented in `main.rs`); this file knows
 //! nothing of scenes.
 
+use std::collections::BTreeSet;
 use std::num::NonZeroU32;
 use std::path::PathBuf;
 use std::rc::Rc;
@@ -21,7 +22,10 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHan
 use winit::keyboard::PhysicalKey;
 use winit::window::{Window, WindowId};
 
+use phosphor_output::term;
+
 use crate::input::{Action, MouseDrag, key_action, wheel_pixels_to_lines};
+use crate::watch::Watch;
 
 /// What the window shows and how it reacts; `main.rs` implements it with the scene renderer.
 pub trait View {
@@ -43,7 +47,20 @@ pub trait View {
     /// Whether the picture moves on its own (an animation playing): the loop then draws
     /// frame after frame instead of waiting for input.
     fn playing(&self) -> bool;
+    /// The files the picture was made from, watched for live reload (outside `--frames`
+    /// mode); none for a picture made from nothing on disk.
+    fn watched(&self) -> BTreeSet<PathBuf>;
+    /// Makes the picture again after a watched file changed; true when it must be redrawn.
+    fn reload(&mut self) -> bool;
 }
+
+/// Quiet time after the last change to a watched file before the view is reloaded: an
+/// editor's save is several events (truncate, write, close, or write and rename).
+pub const RELOAD_QUIET: Duration = Duration::from_millis(100);
+
+/// The event the file watcher sends the loop, from its own thread.
+#[derive(Debug, Clone, Copy)]
+pub struct FilesChanged;
 
 /// Time without input after which a view that wants refinement draws its still picture.
 pub const IDLE_DELAY: Duration = Duration::from_millis(150);
@@ -71,8 +88,32 @@ pub enum WindowError {
 /// Runs the viewer until the window is closed (or the frame count is reached); gives the view
 /// back so the caller can report on it.
 pub fn run<V: View>(view: V, options: WindowOptions) -> Result<V, WindowError> {
-    let event_loop = EventLoop::new().map_err(|e| WindowError::NoDisplay(one_line(&e)))?;
+    let event_loop = EventLoop::<FilesChanged>::with_user_event()
+        .build()
+        .map_err(|e| WindowError::NoDisplay(one_line(&e)))?;
     event_loop.set_control_flow(ControlFlow::Wait);
+    let watch = if options.frames.is_none() && !view.watched().is_empty() {
+        let proxy = event_loop.create_proxy();
+        match Watch::new(move || {
+            // The loop is gone only when the window closed: nothing left to reload.
+            let _ = proxy.send_event(FilesChanged);
+        }) {
+            Ok(mut watch) => {
+                for w in watch.set(&view.watched()) {
+                    term::warn(&w);
+                }
+                Some(watch)
+            }
+            Err(e) => {
+                term::warn(&format!(
+                    "warning: {e}; the scene is not reloaded when its files change"
+                ));
+                None
+            }
+        }
+    } else {
+        None
+    };
     let context = Context::new(event_loop.owned_display_handle())
         .map_err(|e| WindowError::NoDisplay(one_line(&e)))?;
     let mut app = App {
@@ -84,6 +125,9 @@ pub fn run<V: View>(view: V, options: WindowOptions) -> Result<V, WindowError> {
         shift: false,
         frames_drawn: 0,
         error: None,
+        watch,
+        refine_at: None,
+        reload_at: None,
     };
     event_loop
         .run_app(&mut app)
@@ -127,6 +171,12 @@ struct App<V: View> {
     shift: bool,
     frames_drawn: u32,
     error: Option<WindowError>,
+    /// The watch over the view's files (live reload), outside `--frames` mode.
+    watch: Option<Watch>,
+    /// When the still picture is due, if the last frame was a cheaper one.
+    refine_at: Option<Instant>,
+    /// When a reload is due: [`RELOAD_QUIET`] after the last change to a watched file.
+    reload_at: Option<Instant>,
 }
 
 impl<V: View> App<V> {
@@ -163,14 +213,14 @@ impl<V: View> App<V> {
         self.frames_drawn += 1;
         // Interactive only: `--frames` runs draw exactly the frames asked for.
         if self.options.frames.is_none() {
-            event_loop.set_control_flow(if self.view.wants_refinement() {
-                ControlFlow::WaitUntil(Instant::now() + IDLE_DELAY)
-            } else {
-                ControlFlow::Wait
-            });
+            self.refine_at = self
+                .view
+                .wants_refinement()
+                .then(|| Instant::now() + IDLE_DELAY);
             if self.view.playing() {
                 gfx.window.request_redraw();
             }
+            self.schedule(event_loop);
         }
         self.after_frame(event_loop);
     }
@@ -195,6 +245,31 @@ impl<V: View> App<V> {
         event_loop.exit();
     }
 
+    /// Waits for the next deadline (the still picture, a reload), or for input.
+    fn schedule(&self, event_loop: &ActiveEventLoop) {
+        let next = [self.refine_at, self.reload_at].into_iter().flatten().min();
+        event_loop.set_control_flow(next.map_or(ControlFlow::Wait, ControlFlow::WaitUntil));
+    }
+
+    /// Reloads the view once the changes to its files have settled, and watches the files
+    /// the reloaded view was made from.
+    fn reload_if_due(&mut self) {
+        if self.reload_at.is_none_or(|at| at > Instant::now()) {
+            return;
+        }
+        self.reload_at = None;
+        if self.view.reload() {
+            if let Some(gfx) = &self.gfx {
+                gfx.window.request_redraw();
+            }
+        }
+        if let Some(watch) = &mut self.watch {
+            for w in watch.set(&self.view.watched()) {
+                term::warn(&w);
+            }
+        }
+    }
+
     /// Applies an action and schedules a frame if the picture changed.
     fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) {
         if action == Action::Quit {
@@ -213,11 +288,14 @@ impl<V: View> App<V> {
     }
 }
 
-impl<V: View> ApplicationHandler for App<V> {
+impl<V: View> ApplicationHandler<FilesChanged> for App<V> {
     fn new_events(&mut self, event_loop: &ActiveEventLoop, cause: StartCause) {
+        self.reload_if_due();
         // The idle delay ran out with no input since the last frame: draw the still picture.
-        if let StartCause::ResumeTimeReached { .. } = cause {
-            event_loop.set_control_flow(ControlFlow::Wait);
+        if let StartCause::ResumeTimeReached { .. } = cause
+            && self.refine_at.is_some_and(|at| at <= Instant::now())
+        {
+            self.refine_at = None;
             if self.view.wants_refinement() {
                 self.view.refine();
                 if let Some(gfx) = &self.gfx {
@@ -225,6 +303,12 @@ impl<V: View> ApplicationHandler for App<V> {
                 }
             }
         }
+        self.schedule(event_loop);
+    }
+
+    fn user_event(&mut self, event_loop: &ActiveEventLoop, _: FilesChanged) {
+        self.reload_at = Some(Instant::now() + RELOAD_QUIET);
+        self.schedule(event_loop);
     }
 
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {

@@ -189,3 +189,143 @@ fn headless_viewer_renders_the_default_scene_to_a_screenshot() {
     assert!(colours >= 40, "only {colours} distinct colours");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Reads `from` on a thread into a shared string, for polling a running process's output.
+fn collect(
+    mut from: impl std::io::Read + Send + 'static,
+) -> std::sync::Arc<std::sync::Mutex<String>> {
+    let text = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+    let into = text.clone();
+    std::thread::spawn(move || {
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = from.read(&mut buf) {
+            if n == 0 {
+                break;
+            }
+            into.lock()
+                .expect("lock")
+                .push_str(&String::from_utf8_lossy(&buf[..n]));
+        }
+    });
+    text
+}
+
+/// Waits until `text` contains `what` `count` times, or [`TIMEOUT`] passes.
+fn wait_for(text: &std::sync::Mutex<String>, what: &str, count: usize) -> bool {
+    wait_for_within(text, what, count, TIMEOUT)
+}
+
+/// Kills the child when dropped, so that a failed assertion leaves no process behind.
+struct Killed(std::process::Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+#[test]
+fn a_scene_saved_while_the_window_is_open_is_loaded_again() {
+    let on_path = |exe: &str| {
+        std::env::var_os("PATH")
+            .is_some_and(|paths| std::env::split_paths(&paths).any(|dir| dir.join(exe).is_file()))
+    };
+    if !on_path("Xvfb") {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI is set but Xvfb is not on the PATH: the live-reload test cannot run"
+        );
+        eprintln!("skipped: the live-reload test needs Xvfb (Debian package `xvfb`) on the PATH");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("phosphor-viewer-reload-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let scene = dir.join("live.toml");
+    let sphere = |kd: &str| {
+        format!(
+            "[[lights]]\ntype = \"directional\"\ndirection = [0, 0, -1]\nintensity = 1\n\
+             [materials.m]\nkd = {kd}\n[[objects]]\nname = \"ball\"\nmaterial = \"m\"\n\
+             primitive = {{ shape = \"sphere\", radius = 1.0, segments = 16, rings = 8 }}\n"
+        )
+    };
+    std::fs::write(&scene, sphere("[0.9, 0, 0]")).expect("scene");
+    // An X server of our own, on a display it picks (`-displayfd`), killed at the end.
+    let mut xvfb = Command::new("Xvfb");
+    xvfb.args([
+        "-displayfd",
+        "1",
+        "-screen",
+        "0",
+        "640x480x24",
+        "-nolisten",
+        "tcp",
+    ])
+    .stdout(Stdio::piped())
+    .stderr(Stdio::null());
+    let mut xvfb = Killed(xvfb.spawn().expect("Xvfb"));
+    let display = collect(xvfb.0.stdout.take().expect("Xvfb's stdout"));
+    assert!(wait_for(&display, "\n", 1), "Xvfb gave no display number");
+    let display = format!(":{}", display.lock().expect("lock").trim());
+    let mut cmd = viewer();
+    cmd.env("DISPLAY", &display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .args(["--size", "160x120"])
+        .arg(&scene)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    let mut child = Killed(cmd.spawn().expect("spawn"));
+    let out = collect(child.0.stdout.take().expect("stdout"));
+    let err = collect(child.0.stderr.take().expect("stderr"));
+    // The key list is printed just before the window opens and the watch starts.
+    assert!(wait_for(&out, "quit", 1), "{}", err.lock().expect("lock"));
+    let saves = |kd: &str, what: &str, count: usize| {
+        // A save every second until the viewer answers: the first may come before the watch.
+        let started = Instant::now();
+        while started.elapsed() < TIMEOUT {
+            std::fs::write(&scene, sphere(kd)).expect("save");
+            if wait_for_within(&err, what, count, Duration::from_secs(1)) {
+                return true;
+            }
+        }
+        false
+    };
+    assert!(
+        saves("[0, 0, 0.9]", "reloaded", 1),
+        "{}",
+        err.lock().expect("lock")
+    );
+    // A broken save: the error is said, and the viewer keeps running.
+    assert!(
+        saves("[0, 0]", "reload failed", 1),
+        "{}",
+        err.lock().expect("lock")
+    );
+    assert!(
+        child.0.try_wait().expect("wait").is_none(),
+        "the viewer exited"
+    );
+    let said = err.lock().expect("lock").clone();
+    assert!(said.contains("live.toml") && said.contains("kd"), "{said}");
+    drop(child);
+    drop(xvfb);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// [`wait_for`] giving up after `limit`.
+fn wait_for_within(
+    text: &std::sync::Mutex<String>,
+    what: &str,
+    count: usize,
+    limit: Duration,
+) -> bool {
+    let started = Instant::now();
+    while started.elapsed() < limit {
+        if text.lock().expect("lock").matches(what).count() >= count {
+            return true;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    false
+}
