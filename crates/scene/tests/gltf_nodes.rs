@@ -524,3 +524,69 @@ fn bad_gltf_files_are_errors_naming_the_file_and_the_element() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn objects_and_lights_can_hang_from_a_gltf_node() {
+    let dir = temp_dir("node-parent");
+    write_robot(&dir, Twist::default());
+    // A sphere held by the hand, a lamp on the joint; both follow the animated joint.
+    let text = format!(
+        "{SCENE}\
+         [[objects]]\nname = \"ball\"\nparent = \"robot/hand\"\n\
+         transform = {{ translate = [0.5, 0, 0] }}\n\
+         primitive = {{ shape = \"sphere\", radius = 0.1, segments = 8, rings = 4 }}\n\
+         [[lights]]\ntype = \"point\"\nposition = [0, 1, 0]\nintensity = 1\nparent = \"robot/joint\"\n"
+    );
+    std::fs::write(dir.join("s.toml"), &text).unwrap();
+    let mut scene = Scene::load(&dir.join("s.toml")).unwrap();
+    for t in [0.0f32, 0.5, 1.5] {
+        update(&mut scene, Time::at(f64::from(t)));
+        let [_, joint, hand] = expected(t);
+        assert_near(
+            global(&scene, "ball"),
+            hand * Mat4::from_translation(Vec3::new(0.5, 0.0, 0.0)),
+            &format!("ball at {t}"),
+        );
+        let position = scene
+            .lights()
+            .into_iter()
+            .find_map(|(_, l)| match l.kind {
+                phosphor_lighting::LightKind::Point { position } => Some(position),
+                _ => None,
+            })
+            .expect("the lamp");
+        let want = joint.transform_point3(Vec3::Y);
+        assert!(
+            position.abs_diff_eq(want, 1e-4),
+            "lamp at {t}: {position} vs {want}"
+        );
+    }
+    // Saved, the child names the node, and loads back to the same world.
+    let saved = scene_to_toml(&scene);
+    assert!(saved.contains("parent = \"robot/hand\""), "{saved}");
+    std::fs::write(dir.join("saved.toml"), saved).unwrap();
+    let mut back = Scene::load(&dir.join("saved.toml")).unwrap();
+    update(&mut scene, Time::at(0.7));
+    update(&mut back, Time::at(0.7));
+    assert_near(global(&back, "ball"), global(&scene, "ball"), "ball saved");
+    // A name that is no node is an error naming the field and listing what exists.
+    std::fs::write(
+        dir.join("bad.toml"),
+        text.replace("robot/hand", "robot/foot"),
+    )
+    .unwrap();
+    let e = Scene::load(&dir.join("bad.toml")).unwrap_err().to_string();
+    assert!(
+        e.contains("objects[1].parent") && e.contains("robot/hand"),
+        "{e}"
+    );
+    // The glTF's tree cannot be hung below its own node.
+    let looped = text.replace(
+        "name = \"robot\"\n",
+        "name = \"robot\"\nparent = \"ball\"\n",
+    );
+    std::fs::write(dir.join("loop.toml"), looped).unwrap();
+    let e = Scene::load(&dir.join("loop.toml")).unwrap_err().to_string();
+    assert!(e.contains("loop"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -71,17 +71,17 @@ const MODES: [ShadingMode; 5] = [
     ShadingMode::Reference,
 ];
 
-#[test]
-fn an_obj_with_a_png_colour_map_and_a_normal_map_shows_both() {
-    let dir = temp_dir("obj");
+/// Writes `quad.obj` (the unit quad facing +z, with texture coordinates) and `quad.mtl`,
+/// whose material names the colour map `c.png` (a checker) and the normal map `n.png` (every
+/// texel `normal`), the `norm` line with `options` before the file name.
+fn textured_quad(dir: &Path, normal: [u8; 3], options: &str) {
     checker_image(16).save(dir.join("c.png")).unwrap();
-    // Every normal leans 45 degrees towards +T (+u, here +x): m = (0.71, 0, 0.71).
-    image::RgbImage::from_pixel(4, 4, image::Rgb([218, 128, 218]))
+    image::RgbImage::from_pixel(4, 4, image::Rgb(normal))
         .save(dir.join("n.png"))
         .unwrap();
     std::fs::write(
         dir.join("quad.mtl"),
-        "newmtl m\nKd 1 1 1\nmap_Kd c.png\nnorm -bm 0.5 n.png\n",
+        format!("newmtl m\nKd 1 1 1\nmap_Kd c.png\nnorm {options}n.png\n"),
     )
     .unwrap();
     std::fs::write(
@@ -90,6 +90,13 @@ fn an_obj_with_a_png_colour_map_and_a_normal_map_shows_both() {
          vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nusemtl m\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n",
     )
     .unwrap();
+}
+
+#[test]
+fn an_obj_with_a_png_colour_map_and_a_normal_map_shows_both() {
+    let dir = temp_dir("obj");
+    // Every normal leans 45 degrees towards +T (+u, here +x): m = (0.71, 0, 0.71).
+    textured_quad(&dir, [218, 128, 218], "-bm 0.5 ");
     let scene = load_scene(&scene_file(&dir, "quad.obj")).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let bump = scene
@@ -209,21 +216,7 @@ fn a_gltf_with_a_jpeg_texture_shows_it_times_its_colour_factor() {
 #[test]
 fn a_scene_notes_every_file_it_was_made_from_for_live_reload() {
     let dir = temp_dir("noting");
-    checker_image(16).save(dir.join("c.png")).unwrap();
-    image::RgbImage::from_pixel(4, 4, image::Rgb([128, 128, 255]))
-        .save(dir.join("n.png"))
-        .unwrap();
-    std::fs::write(
-        dir.join("quad.mtl"),
-        "newmtl m\nKd 1 1 1\nmap_Kd c.png\nnorm n.png\n",
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("quad.obj"),
-        "mtllib quad.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n\
-         vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nusemtl m\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n",
-    )
-    .unwrap();
+    textured_quad(&dir, [128, 128, 255], "");
     let path = scene_file(&dir, "quad.obj");
     let (scene, files) = phosphor_scene::load_scene_noting(&path);
     let scene = scene.unwrap();

@@ -19,8 +19,8 @@ use super::motion::{MOTION_KEYS, Motion};
 use super::read::{Fields, choose};
 use crate::budget::{MAX_DISTRIBUTED_SAMPLES, limit_distributed_samples};
 use crate::components::{
-    Bump, BumpSource, GltfRoot, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource, Name,
-    PRIMITIVE_BUDGET_BYTES, Primitive, SceneMesh, Shading, ShadingChoice, Transform,
+    Bump, BumpSource, GltfNode, GltfRoot, MaterialDef, MaterialName, MeshInfo, MeshRef, MeshSource,
+    Name, PRIMITIVE_BUDGET_BYTES, Primitive, SceneMesh, Shading, ShadingChoice, Transform,
 };
 use crate::components::{CastsShadows, ShadowRole};
 use crate::error::SceneError;
@@ -192,6 +192,16 @@ pub fn parse_scene(
         }
         if let Ok(n) = scene.world.get::<&Name>(entity) {
             named.push((n.0.clone(), entity));
+        }
+        // The nodes of a glTF it names can be parents too, by their `OBJECT/NODE` names.
+        if scene.world.get::<&GltfRoot>(entity).is_ok() {
+            let mut nodes = scene.world.query::<(Entity, &GltfNode, &Name)>();
+            named.extend(
+                nodes
+                    .iter()
+                    .filter(|(_, g, _)| g.root == entity && g.node.is_some())
+                    .map(|(e, _, n)| (n.0.clone(), e)),
+            );
         }
         if let Some(p) = &motion.parent {
             pending.push((entity, p.clone(), motion.parent_field.clone()));

@@ -254,9 +254,9 @@ pub(crate) fn resolve_parents(
         scene.world.insert_one(*child, Parent(parent)).ok();
     }
     for (child, name, field) in &pending {
-        // Walk up: a chain longer than the entities holds a loop.
+        // Walk up: a chain longer than the entities holds a loop (glTF nodes included).
         let mut at = *child;
-        for _ in 0..=pending.len() {
+        for _ in 0..=scene.world.len() {
             match scene.world.get::<&Parent>(at).map(|p| p.0) {
                 Ok(p) if p == *child => {
                     return Err(SceneError::field(
