@@ -150,15 +150,31 @@ fn screen_diameter(s: &Sphere, camera: &Camera, height: u32) -> f32 {
     2.0 * s.radius / world_height * height as f32
 }
 
-/// The side the footprint rule picks for receivers `receivers`.
-fn auto_size(receivers: &[Sphere], camera: &Camera, viewport: (u32, u32)) -> u32 {
+/// Screen pixels per map texel that the footprint rule aims at. The lookup's tent filter
+/// spreads every shadow edge over three texels, so a penumbra is soft whatever the map's
+/// size; one texel per two pixels keeps it about six pixels wide, and costs a quarter of the
+/// texels (and of the map's memory traffic) that one texel per pixel would.
+pub const PIXELS_PER_TEXEL: f32 = 2.0;
+
+/// The side the footprint rule picks for receivers `receivers`: the largest receiver's
+/// diameter on screen (at most the picture's larger side) over [`PIXELS_PER_TEXEL`], rounded
+/// to the nearest power of two, from [`MIN_AUTO_SIZE`] to [`MAX_AUTO_SIZE`].
+#[must_use]
+pub fn auto_size(receivers: &[Sphere], camera: &Camera, viewport: (u32, u32)) -> u32 {
     let largest = receivers
         .iter()
         .map(|s| screen_diameter(s, camera, viewport.1))
         .fold(0.0f32, f32::max)
         .min(viewport.0.max(viewport.1) as f32);
-    let side = if largest.is_finite() && largest > 1.0 {
-        (largest.ceil() as u32).next_power_of_two()
+    let texels = largest / PIXELS_PER_TEXEL;
+    let side = if texels.is_finite() && texels > 1.0 {
+        // The nearer of the powers of two either side, in ratio (the geometric mean between).
+        let up = (texels.ceil() as u32).next_power_of_two();
+        if texels * texels * 2.0 < (up as f32) * (up as f32) {
+            up / 2
+        } else {
+            up
+        }
     } else {
         MIN_AUTO_SIZE
     };

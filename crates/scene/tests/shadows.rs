@@ -202,3 +202,36 @@ fn the_default_scene_makes_its_key_lights_map() {
     assert!(text.contains("shadow map of key: "), "{text}");
     assert!(text.contains("perspective view"), "{text}");
 }
+
+#[test]
+fn the_map_side_is_a_texel_per_two_pixels_of_the_largest_receiver() {
+    use phosphor_raster::Camera;
+    use phosphor_raster::shadow::Sphere;
+    use phosphor_scene::shadows::{MAX_AUTO_SIZE, MIN_AUTO_SIZE, auto_size};
+    let camera = Camera::s1();
+    let viewport = (1280, 720);
+    // A sphere `pixels` across on screen at S1's distance of 3 (an estimate, as the rule's).
+    let half_height = 3.0 * (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let across = |pixels: f32| Sphere {
+        center: phosphor_math::glam::Vec3::ZERO,
+        radius: pixels / 720.0 * half_height,
+    };
+    let side = |pixels: f32| auto_size(&[across(pixels)], &camera, viewport);
+    // 700 px: 350 texels, nearer 256 than 512 in ratio (362 is the middle).
+    assert_eq!(side(700.0), 256);
+    assert_eq!(side(760.0), 512);
+    // The picture's width bounds the footprint: 1280 px, 640 texels, gives 512, not 1024.
+    assert_eq!(side(5000.0), 512);
+    assert_eq!(
+        auto_size(&[across(5000.0)], &camera, (3840, 2160)),
+        MAX_AUTO_SIZE
+    );
+    assert_eq!(side(10.0), MIN_AUTO_SIZE);
+    // No receiver, or one whose size is not finite: the smallest side.
+    assert_eq!(auto_size(&[], &camera, viewport), MIN_AUTO_SIZE);
+    let nan = Sphere {
+        center: phosphor_math::glam::Vec3::ZERO,
+        radius: f32::NAN,
+    };
+    assert_eq!(auto_size(&[nan], &camera, viewport), MIN_AUTO_SIZE);
+}
