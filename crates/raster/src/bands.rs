@@ -21,7 +21,8 @@ use rayon::prelude::*;
 use crate::batch::shade4;
 use crate::bin::{Binned, TriRec};
 use crate::bypixel::ByPixel;
-use crate::coverage::{BandTarget, Pass, depth_only};
+use crate::clip::Attrs;
+use crate::coverage::{BandTarget, Pass, depth_only, lanes};
 use crate::framebuffer::{Framebuffer, clear_rows, mark_dirty, same_color};
 use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
@@ -229,15 +230,23 @@ fn by_pixel_pass<S: Shader>(
         ceiling: input.ceiling,
     };
     let shader = input.shader;
+    // More than eight attributes: a loop compiled for this shader (`ByPixel::shade_wide`).
+    let wide_attrs = lanes(interpolated::<S>()) > 8;
     let shaded = if input.wide.avx2.is_some() {
         let wide = input.wide;
-        pass.shade::<8>(target.color, &|a, count, ceiling| {
-            wide.shade8(shader, a, count, ceiling)
-        })
+        let kernel = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
+        if wide_attrs {
+            pass.shade_wide::<8, _>(target.color, &kernel)
+        } else {
+            pass.shade::<8>(target.color, &kernel)
+        }
     } else {
-        pass.shade::<4>(target.color, &|a, count, ceiling| {
-            shade4(shader, a, count, ceiling)
-        })
+        let kernel = |a: &[Attrs; 4], count, ceiling| shade4(shader, a, count, ceiling);
+        if wide_attrs {
+            pass.shade_wide::<4, _>(target.color, &kernel)
+        } else {
+            pass.shade::<4>(target.color, &kernel)
+        }
     };
     (shaded, traced)
 }
