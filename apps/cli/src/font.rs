@@ -23,7 +23,7 @@ const UNKNOWN: Glyph = [
 ];
 
 #[rustfmt::skip]
-const PUNCTUATION: [(char, Glyph); 14] = [
+const PUNCTUATION: [(char, Glyph); 15] = [
     (' ', [0, 0, 0, 0, 0, 0, 0]),
     ('.', [0b00000, 0b00000, 0b00000, 0b00000, 0b00000, 0b01100, 0b01100]),
     (',', [0b00000, 0b00000, 0b00000, 0b00000, 0b01100, 0b00100, 0b01000]),
@@ -37,6 +37,7 @@ const PUNCTUATION: [(char, Glyph); 14] = [
     ('_', [0b00000, 0b00000, 0b00000, 0b00000, 0b00000, 0b00000, 0b11111]),
     ('%', [0b11000, 0b11001, 0b00010, 0b00100, 0b01000, 0b10011, 0b00011]),
     ('>', [0b01000, 0b00100, 0b00010, 0b00001, 0b00010, 0b00100, 0b01000]),
+    ('|', [0b00100, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100, 0b00100]),
     ('?', UNKNOWN),
 ];
 
@@ -209,7 +210,7 @@ mod tests {
         let chars: Vec<char> = ('0'..='9')
             .chain('A'..='Z')
             .chain('a'..='z')
-            .chain(".,-+()/:=_%>".chars())
+            .chain(".,-+()/:=_%>|".chars())
             .collect();
         let mut seen = std::collections::HashSet::new();
         for c in chars {
