@@ -8,7 +8,9 @@ use std::f32::consts::PI;
 use glam::{Mat4, Vec3};
 use phosphor_lighting::{Effects, Light, LightSet, Material};
 use phosphor_mesh::Mesh;
-use phosphor_raster::shadow::{Caster, LightShape, NoMap, ShadowLight, ShadowMap, Sphere, fit};
+use phosphor_raster::shadow::{
+    Caster, CubeFace, LightMaps, LightShape, NoMap, ShadowLight, ShadowMap, Sphere, fit, fit_cube,
+};
 use phosphor_raster::{
     Camera, DrawItem, Frame, Framebuffer, MeshView, RenderOptions, ShadingMode, SimdLevel,
 };
@@ -159,7 +161,7 @@ fn spot_and_point_lights_cast_below_their_caster() {
 }
 
 #[test]
-fn point_light_surrounded_by_casters_gets_no_map() {
+fn point_light_surrounded_by_casters_takes_a_cube() {
     let around: Vec<Sphere> = [Vec3::X, -Vec3::X, Vec3::Z, -Vec3::Z]
         .iter()
         .map(|&c| Sphere {
@@ -170,7 +172,20 @@ fn point_light_surrounded_by_casters_gets_no_map() {
     let light = LightShape::Point {
         position: Vec3::ZERO,
     };
+    // No single cone holds them; the cube's four side faces do (each ball shadows the
+    // balls beside it only through its own face and its neighbours').
     assert_eq!(fit(&light, &around, &around).unwrap_err(), NoMap::TooWide);
+    let faces = fit_cube(Vec3::ZERO, &around, &around, 256).unwrap();
+    let made: Vec<CubeFace> = faces.iter().map(|f| f.face).collect();
+    for face in [
+        CubeFace::PosX,
+        CubeFace::NegX,
+        CubeFace::PosZ,
+        CubeFace::NegZ,
+    ] {
+        assert!(made.contains(&face), "{face}: {made:?}");
+    }
+    assert!(!made.contains(&CubeFace::PosY) && !made.contains(&CubeFace::NegY));
 }
 
 #[test]
@@ -263,7 +278,7 @@ fn frame_bytes(opts: &RenderOptions, mode: ShadingMode) -> Vec<u8> {
     let map = ShadowMap::render(&v, 512, &casters, opts).unwrap();
     let shadowed = [ShadowLight {
         set: &alone,
-        map: &map,
+        maps: LightMaps::One(&map),
     }];
     let material = Material::s1();
     fn item<'a>(

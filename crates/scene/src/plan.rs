@@ -819,9 +819,14 @@ impl fmt::Display for FramePlan {
                 m.size,
                 m.size,
                 m.size_reason,
-                match m.view.projection {
-                    phosphor_raster::shadow::Projection::Orthographic { .. } => "orthographic",
-                    phosphor_raster::shadow::Projection::Perspective { .. } => "perspective",
+                match (m.face, m.view.projection) {
+                    (Some(face), _) => format!("cube face {face}"),
+                    (None, phosphor_raster::shadow::Projection::Orthographic { .. }) => {
+                        "orthographic".to_owned()
+                    }
+                    (None, phosphor_raster::shadow::Projection::Perspective { .. }) => {
+                        "perspective".to_owned()
+                    }
                 },
                 names(&casters),
                 names(&receivers)
@@ -829,6 +834,15 @@ impl fmt::Display for FramePlan {
         }
         for (light, why) in &self.shadows.skipped {
             writeln!(f, "  no shadow map for {}: {why}", self.light_names[*light])?;
+        }
+        for (light, faces) in &self.shadows.faces_skipped {
+            let faces: Vec<String> = faces.iter().map(ToString::to_string).collect();
+            writeln!(
+                f,
+                "  cube faces of {} not made ({}): no caster can shadow a visible receiver through them",
+                self.light_names[*light],
+                faces.join(", ")
+            )?;
         }
         Ok(())
     }

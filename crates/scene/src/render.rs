@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use phosphor_lighting::{Light, LightSet, Material};
-use phosphor_raster::shadow::{Caster, ShadowLight, ShadowMap};
+use phosphor_raster::shadow::{Caster, CubeShadow, LightMaps, ShadowLight, ShadowMap};
 use phosphor_raster::{Camera, DrawItem, Frame, Framebuffer, MeshView, RenderOptions, RenderStats};
 
 use crate::Scene;
@@ -199,19 +199,42 @@ pub fn render_plan(
             frame.draw_item(d);
             continue;
         }
-        let shadowed: Vec<ShadowLight> = mine
-            .iter()
-            .filter_map(|&k| {
-                maps[k].as_ref().map(|map| ShadowLight {
-                    set: &alone[k],
-                    map,
+        // One entry per light: its map, or the faces of its cube map this object receives.
+        let mut shadowed: Vec<ShadowLight> = Vec::new();
+        let mut done: Vec<usize> = Vec::new();
+        for &k in &mine {
+            let (m, Some(map)) = (&plan.shadows.maps[k], maps[k].as_ref()) else {
+                continue;
+            };
+            if done.contains(&m.light) {
+                continue;
+            }
+            done.push(m.light);
+            let light_maps = if m.face.is_some() {
+                let mut faces = [None; 6];
+                for &j in &mine {
+                    let mj = &plan.shadows.maps[j];
+                    if let (true, Some(face), Some(map)) = (mj.light == m.light, mj.face, &maps[j])
+                    {
+                        faces[face.index()] = Some(map);
+                    }
+                }
+                LightMaps::Cube(CubeShadow {
+                    position: m.view.toward,
+                    faces,
                 })
-            })
-            .collect();
+            } else {
+                LightMaps::One(map)
+            };
+            shadowed.push(ShadowLight {
+                set: &alone[k],
+                maps: light_maps,
+            });
+        }
         let rest: Vec<Light> = o
             .lights
             .iter()
-            .filter(|&&l| !mine.iter().any(|&k| plan.shadows.maps[k].light == l))
+            .filter(|l| !done.contains(l))
             .map(|&l| lights[l].1)
             .collect();
         let rest = LightSet::new(scene.ambient, &rest);

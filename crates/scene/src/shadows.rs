@@ -19,7 +19,9 @@ use std::sync::Arc;
 
 use glam::Mat4;
 use phosphor_lighting::{Light, LightKind};
-use phosphor_raster::shadow::{LightShape, LightView, ShadowMap, Sphere, can_shadow, fit};
+use phosphor_raster::shadow::{
+    CubeFace, LightShape, LightView, NoMap, ShadowMap, Sphere, can_shadow, fit, fit_cube,
+};
 use phosphor_raster::{Camera, Projection};
 
 use crate::Scene;
@@ -57,6 +59,8 @@ pub struct PlannedShadow {
     pub light: usize,
     /// The light's view, fitted.
     pub view: LightView,
+    /// The face of the light's cube map this map is, or `None` for a light's only map.
+    pub face: Option<CubeFace>,
     /// Side in texels.
     pub size: u32,
     /// Indices into [`crate::plan::FramePlan::casters`] of the casters drawn into it.
@@ -195,6 +199,9 @@ fn bounds_of(o: &PlannedObject) -> Sphere {
     }
 }
 
+/// A map to make: the cube face it is (if any), its view, its casters and its receivers.
+type View = (Option<CubeFace>, LightView, Vec<usize>, Vec<usize>);
+
 /// The maps of a frame: those made, and one line per shadowing light that gets none.
 #[derive(Debug, Clone, Default)]
 pub struct ShadowPlan {
@@ -202,6 +209,9 @@ pub struct ShadowPlan {
     pub maps: Vec<PlannedShadow>,
     /// `(light, why not)` for the lights with shadows on that get no map.
     pub skipped: Vec<(usize, String)>,
+    /// `(light, faces)`: the faces of a light's cube map not made, since no caster can shadow
+    /// a visible receiver through them.
+    pub faces_skipped: Vec<(usize, Vec<CubeFace>)>,
 }
 
 /// Plans the maps of a frame: `objects` are the visible objects planned, `casters` every
@@ -274,13 +284,6 @@ pub fn plan_shadows(
             .iter()
             .map(|&r| bounds_of(&objects[r]))
             .collect();
-        let view = match fit(&shape, &caster_spheres, &receiver_spheres) {
-            Ok(v) => v,
-            Err(why) => {
-                skip(&why.to_string());
-                continue;
-            }
-        };
         let (mut size, mut size_reason) = if scene.settings.shadow_size != 0 {
             (
                 scene.settings.shadow_size,
@@ -292,26 +295,79 @@ pub fn plan_shadows(
                 "from the receivers' footprint on screen".to_owned(),
             )
         };
-        while bytes + ShadowMap::bytes_for(size) > MAX_SHADOW_BYTES && size > MIN_AUTO_SIZE / 4 {
+        // One view, or (a point light surrounded by its casters) the faces of a cube, each
+        // with the casters drawn into it and the receivers that look it up.
+        let cube = |size: u32| -> Result<Vec<View>, NoMap> {
+            let LightShape::Point { position } = shape else {
+                return Err(NoMap::TooWide);
+            };
+            let faces = fit_cube(position, &caster_spheres, &receiver_spheres, size)?;
+            Ok(faces
+                .into_iter()
+                .map(|f| {
+                    let cs = f.casters.iter().map(|&i| used_casters[i]).collect();
+                    let rs = f.receivers.iter().map(|&i| used_receivers[i]).collect();
+                    (Some(f.face), f.view, cs, rs)
+                })
+                .collect())
+        };
+        let mut views = match fit(&shape, &caster_spheres, &receiver_spheres) {
+            Ok(v) => vec![(None, v, used_casters.clone(), used_receivers.clone())],
+            Err(NoMap::TooWide) => match cube(size) {
+                Ok(faces) => faces,
+                Err(why) => {
+                    skip(&why.to_string());
+                    continue;
+                }
+            },
+            Err(why) => {
+                skip(&why.to_string());
+                continue;
+            }
+        };
+        let count = views.len() as u64;
+        while bytes + count * ShadowMap::bytes_for(size) > MAX_SHADOW_BYTES
+            && size > MIN_AUTO_SIZE / 4
+        {
             size /= 2;
             size_reason = format!(
                 "halved to fit the frame's {} MB of maps",
                 MAX_SHADOW_BYTES >> 20
             );
         }
-        if bytes + ShadowMap::bytes_for(size) > MAX_SHADOW_BYTES {
+        if bytes + count * ShadowMap::bytes_for(size) > MAX_SHADOW_BYTES {
             skip("the frame's maps already take their memory budget");
             continue;
         }
-        bytes += ShadowMap::bytes_for(size);
-        plan.maps.push(PlannedShadow {
-            light: li,
-            view,
-            size,
-            casters: used_casters,
-            receivers: used_receivers,
-            size_reason,
-        });
+        // A cube's faces are a little wider than 90 degrees by a number of texels: fitted
+        // again at the size that was kept (the faces can only be fewer).
+        if views[0].0.is_some() {
+            let Ok(faces) = cube(size) else {
+                skip("its cube map's faces no longer fit at the size kept");
+                continue;
+            };
+            views = faces;
+            let made: Vec<CubeFace> = views.iter().filter_map(|v| v.0).collect();
+            let left: Vec<CubeFace> = CubeFace::ALL
+                .into_iter()
+                .filter(|f| !made.contains(f))
+                .collect();
+            if !left.is_empty() {
+                plan.faces_skipped.push((li, left));
+            }
+        }
+        bytes += views.len() as u64 * ShadowMap::bytes_for(size);
+        for (face, view, casters, receivers) in views {
+            plan.maps.push(PlannedShadow {
+                light: li,
+                view,
+                face,
+                size,
+                casters,
+                receivers,
+                size_reason: size_reason.clone(),
+            });
+        }
     }
     plan
 }

@@ -235,3 +235,38 @@ fn the_map_side_is_a_texel_per_two_pixels_of_the_largest_receiver() {
     };
     assert_eq!(auto_size(&[nan], &camera, viewport), MIN_AUTO_SIZE);
 }
+
+#[test]
+fn a_point_light_ringed_by_casters_gets_a_cube_map() {
+    // Four balls around a bulb over a floor: no single cone of 60 degrees holds them.
+    let bulb = r#"type = "point"
+position = [0.0, 1.0, 0.0]"#;
+    let ring: String = [[1.5, 0.0], [-1.5, 0.0], [0.0, 1.5], [0.0, -1.5]]
+        .iter()
+        .enumerate()
+        .map(|(i, [x, z])| {
+            format!(
+                "\n[[objects]]\nname = \"ball{i}\"\nprimitive = {{ shape = \"sphere\", radius = 0.4, segments = 24, rings = 12 }}\nmaterial = \"m\"\ntransform = {{ translate = [{x}, 0.3, {z}] }}\n"
+            )
+        })
+        .collect();
+    let s = scene(bulb, &format!("{ring}{FLOOR}"));
+    let (maps, text) = plan_text(&s, None);
+    assert!(maps >= 4, "{text}");
+    assert!(text.contains("cube face -y"), "{text}");
+    for face in ["+x", "-x", "+z", "-z"] {
+        assert!(
+            text.contains(&format!("cube face {face}")),
+            "{face}: {text}"
+        );
+    }
+    let on = bytes(&s, None, 1);
+    let off = bytes(&s, Some(false), 1);
+    // The shadows only darken, and they darken some of the floor.
+    assert!(on.iter().zip(&off).all(|(a, b)| a <= b));
+    let darker = on.iter().zip(&off).filter(|(a, b)| a < b).count();
+    assert!(darker > 400, "{darker} channels darkened");
+    for threads in [2, 3] {
+        assert!(bytes(&s, None, threads) == on, "{threads} threads");
+    }
+}

@@ -195,8 +195,10 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
                 );
                 for (m, t) in report.plan.shadows.maps.iter().zip(&report.shadow_times) {
                     say!(
-                        "shadow map of {}: {:.3} ms (in the raster time)",
+                        "shadow map of {}{}: {:.3} ms (in the raster time)",
                         report.plan.light_names[m.light],
+                        m.face
+                            .map_or_else(String::new, |f| format!(", cube face {f}")),
                         t.as_secs_f64() * 1e3
                     );
                 }

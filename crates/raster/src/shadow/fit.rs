@@ -46,7 +46,8 @@ pub enum LightShape {
 pub enum NoMap {
     /// No caster stands between the light and a receiver.
     NothingBetween,
-    /// A point light's casters span more than one map's cone (cube maps are not implemented).
+    /// A point light's casters span more than one map's cone: it takes a cube map
+    /// ([`super::fit_cube`]).
     TooWide,
     /// The light's direction or position is degenerate.
     Degenerate,
@@ -56,9 +57,7 @@ impl fmt::Display for NoMap {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
             NoMap::NothingBetween => "no caster can stand between it and a visible receiver",
-            NoMap::TooWide => {
-                "its casters surround it wider than one map's cone (cube maps not implemented)"
-            }
+            NoMap::TooWide => "its casters surround it wider than one map's cone",
             NoMap::Degenerate => "its direction or position is degenerate",
         })
     }

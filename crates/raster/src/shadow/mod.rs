@@ -7,8 +7,8 @@
 //!   perspective cone from a spot or point light. Each is fitted by bounding spheres to the
 //!   casters and receivers that matter, so the map's texels cover only the region where a
 //!   shadow can fall on something visible. A point light gets one perspective map when its
-//!   casters fit in a cone of at most [`MAX_POINT_HALF_ANGLE_DEG`]; cube maps (six faces) are
-//!   not implemented, so a point light surrounded by casters gets no map.
+//!   casters fit in a cone of at most [`MAX_POINT_HALF_ANGLE_DEG`], and otherwise a cube map
+//!   ([`cube`]): up to six faces, only those through which a caster can shadow a receiver.
 //! * **Rendering** ([`ShadowMap::render`]): the casters go through the frame's own stages
 //!   (clipping, the top-left coverage rule, the exact depth of every pixel, bands in parallel)
 //!   with a constant-colour shader, so the map is the same for any thread count; its depths
@@ -34,12 +34,14 @@ use glam::{Mat4, Vec3};
 use crate::framebuffer::{FAR_DEPTH, Framebuffer, RasterError};
 use crate::{MeshView, RenderOptions, RenderStats};
 
+pub mod cube;
 pub mod fit;
 mod lookup;
 pub mod shade;
 
+pub use cube::{CubeFace, CubeShadow, FaceFit, fit_cube};
 pub use fit::{LightShape, NoMap, Sphere, can_shadow, fit};
-pub use shade::ShadowLight;
+pub use shade::{LightMaps, ShadowLight};
 
 /// Largest map side accepted.
 pub const MAX_SHADOW_SIZE: u32 = 4096;

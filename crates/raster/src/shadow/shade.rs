@@ -12,6 +12,7 @@
 use phosphor_lighting::{Effects, Lanes, LightSet, Material, Vec3s, shade_terms_lanes};
 
 use super::ShadowMap;
+use super::cube::CubeShadow;
 use crate::bump::BumpMap;
 use crate::shader::{Shader, Varyings, VertexLanes, uv_derivatives, vec3_at};
 use crate::shaders::Lit;
@@ -22,8 +23,30 @@ use crate::texture::Texture;
 pub struct ShadowLight<'a> {
     /// The light alone (ambient zero).
     pub set: &'a LightSet,
-    /// Its map.
-    pub map: &'a ShadowMap,
+    /// Its map, or its cube map's faces.
+    pub maps: LightMaps<'a>,
+}
+
+/// The maps of one light.
+#[derive(Debug, Clone, Copy)]
+pub enum LightMaps<'a> {
+    /// One map: a directional light's box, a spot's cone, or a point light's single cone.
+    One(&'a ShadowMap),
+    /// A point light's cube map.
+    Cube(CubeShadow<'a>),
+}
+
+impl LightMaps<'_> {
+    /// How much of the light reaches each lane's point `p` with normal `n` (see
+    /// [`ShadowMap::visibility`] and [`CubeShadow::visibility`]).
+    #[inline(always)]
+    #[must_use]
+    pub fn visibility_lanes<L: Lanes>(&self, p: Vec3s<L>, n: Vec3s<L>) -> L {
+        match self {
+            LightMaps::One(map) => map.visibility_lanes(p, n),
+            LightMaps::Cube(cube) => cube.visibility_lanes(p, n),
+        }
+    }
 }
 
 /// Per-pixel shading with shadows for effect set `FX`, with or without bump mapping.
@@ -64,7 +87,7 @@ impl<const FX: u32, const BUMP: bool> Shader for Shadowed<'_, FX, BUMP> {
         for s in self.shadowed {
             let t = shade_terms_lanes::<FX, L>(s.set, &self.direct, p, n, lit.eye);
             // The geometric normal sets the bias: the map holds the surface, not its bumps.
-            let seen = s.map.visibility_lanes(p, geometric);
+            let seen = s.maps.visibility_lanes(p, geometric);
             terms.diffuse = terms.diffuse + t.diffuse * seen;
             terms.specular = terms.specular + t.specular * seen;
         }
