@@ -215,6 +215,22 @@ fn report_on_the_default_scene_has_every_mode_and_writes_every_file() {
         d,
     ]);
     let stdout = assert_report(&out, &dir);
+    // The key light's map, measured against exact shadow rays, with its heat-map.
+    let shadow = stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("shadow maps against exact shadow rays"))
+        .nth(1)
+        .unwrap_or_else(|| panic!("no shadow-map row: {stdout}"));
+    assert!(stdout.contains("(key 256x256)"), "{stdout}");
+    let max_codes: f64 = shadow
+        .split("max codes ")
+        .nth(1)
+        .and_then(|t| t.split(',').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("{shadow}"));
+    // The maps' filtered edges differ from the rays' hard ones: an error shows, finite.
+    assert!(max_codes > 1.0 && max_codes.is_finite(), "{shadow}");
+    assert!(dir.join("shadow-maps-error.png").is_file());
     // The default scene's torus gets the geometric reference: the mesh's own error shows in
     // the reference's row there, above zero.
     assert!(

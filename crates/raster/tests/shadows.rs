@@ -279,6 +279,8 @@ fn frame_bytes(opts: &RenderOptions, mode: ShadingMode) -> Vec<u8> {
     let shadowed = [ShadowLight {
         set: &alone,
         maps: LightMaps::One(&map),
+        rays: None,
+        rays_skip: None,
     }];
     let material = Material::s1();
     fn item<'a>(

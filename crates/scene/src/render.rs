@@ -5,8 +5,10 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use phosphor_lighting::{Light, LightSet, Material};
-use phosphor_raster::shadow::{Caster, CubeShadow, LightMaps, ShadowLight, ShadowMap};
-use phosphor_raster::{Camera, DrawItem, Frame, Framebuffer, MeshView, RenderOptions, RenderStats};
+use phosphor_raster::shadow::{Caster, CubeShadow, LightMaps, Occluders, ShadowLight, ShadowMap};
+use phosphor_raster::{
+    Camera, DrawItem, Frame, Framebuffer, MeshView, RenderOptions, RenderStats, ShadingMode,
+};
 
 use crate::Scene;
 use crate::components::{MeshRef, Name, Transform};
@@ -184,6 +186,7 @@ pub fn render_plan(
             map
         })
         .collect();
+    let occluders = exact_occluders(plan);
     let alone: Vec<LightSet> = plan
         .shadows
         .maps
@@ -226,9 +229,25 @@ pub fn render_plan(
             } else {
                 LightMaps::One(map)
             };
+            // The light's occluders sit with its first map; a receiver that cannot shadow
+            // itself lets its rays pass its own triangles.
+            let rays = plan
+                .shadows
+                .maps
+                .iter()
+                .position(|n| n.light == m.light)
+                .and_then(|first| occluders[first].as_ref());
+            let own = plan
+                .casters
+                .iter()
+                .position(|c| c.name == o.name && c.model == o.model && !c.concave);
             shadowed.push(ShadowLight {
                 set: &alone[k],
                 maps: light_maps,
+                rays: rays.map(|r| &r.0),
+                rays_skip: rays
+                    .zip(own)
+                    .and_then(|(r, own)| r.1.iter().position(|&c| c == own)),
             });
         }
         let rest: Vec<Light> = o
@@ -241,4 +260,40 @@ pub fn render_plan(
         frame.draw_shadowed(d, &rest, &shadowed);
     }
     (frame.finish(), times)
+}
+
+/// The triangles that can block each light with shadows, for `reference`'s exact shadow rays,
+/// with the plan's caster indices they came from (in the order [`Occluders`] numbers them):
+/// at the index of the light's first map, those of all its maps. Built only when some object
+/// is drawn in `reference`; `None` elsewhere.
+fn exact_occluders(plan: &FramePlan) -> Vec<Option<(Occluders, Vec<usize>)>> {
+    let exact = plan
+        .objects
+        .iter()
+        .any(|o| o.mode == ShadingMode::Reference);
+    let maps = &plan.shadows.maps;
+    maps.iter()
+        .enumerate()
+        .map(|(k, m)| {
+            let first = maps.iter().position(|n| n.light == m.light);
+            if !exact || first != Some(k) {
+                return None;
+            }
+            let mut ids: Vec<usize> = maps
+                .iter()
+                .filter(|n| n.light == m.light)
+                .flat_map(|n| n.casters.iter().copied())
+                .collect();
+            ids.sort_unstable();
+            ids.dedup();
+            let casters: Vec<Caster> = ids
+                .iter()
+                .map(|&c| Caster {
+                    mesh: mesh_view(&plan.casters[c].mesh.mesh),
+                    model: plan.casters[c].model,
+                })
+                .collect();
+            Some((Occluders::new(&casters), ids))
+        })
+        .collect()
 }

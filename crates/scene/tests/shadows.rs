@@ -270,3 +270,87 @@ position = [0.0, 1.0, 0.0]"#;
         assert!(bytes(&s, None, threads) == on, "{threads} threads");
     }
 }
+
+/// `scene` drawn in `mode` with shadows on or off, at 480x360.
+fn bytes_in(
+    scene: &Scene,
+    mode: phosphor_raster::ShadingMode,
+    shadows: bool,
+    threads: usize,
+) -> Vec<u8> {
+    let mut fb = Framebuffer::new(480, 360).unwrap();
+    let opts = FrameOptions {
+        threads,
+        shadows: Some(shadows),
+        shading: Some(phosphor_scene::ShadingChoice::Mode(mode)),
+        ..FrameOptions::default()
+    };
+    render_frame(scene, &mut fb, &opts);
+    fb.to_rgb8(Encoding::Linear)
+}
+
+#[test]
+fn reference_traces_exact_shadow_rays_that_the_maps_follow() {
+    use phosphor_raster::ShadingMode::{Phong, Reference};
+    // A ball over a floor under the sun, and a bulb ringed by balls (a cube map).
+    let bulb = r#"type = "point"
+position = [0.0, 1.0, 0.0]"#;
+    let ring = r#"
+[[objects]]
+name = "a"
+primitive = { shape = "sphere", radius = 0.4, segments = 24, rings = 12 }
+material = "m"
+transform = { translate = [1.5, 0.3, 0.0] }
+[[objects]]
+name = "b"
+primitive = { shape = "sphere", radius = 0.4, segments = 24, rings = 12 }
+material = "m"
+transform = { translate = [-1.5, 0.3, 0.0] }
+[[objects]]
+name = "c"
+primitive = { shape = "sphere", radius = 0.4, segments = 24, rings = 12 }
+material = "m"
+transform = { translate = [0.0, 0.3, -1.5] }"#;
+    for s in [
+        scene(DOWN, &format!("{BALL}{FLOOR}")),
+        scene(bulb, &format!("{ring}{FLOOR}")),
+    ] {
+        let rays = bytes_in(&s, Reference, true, 1);
+        let unshadowed = bytes_in(&s, Reference, false, 1);
+        let maps = bytes_in(&s, Phong, true, 1);
+        // The rays only darken, and darken a good part of the floor.
+        assert!(rays.iter().zip(&unshadowed).all(|(a, b)| a <= b));
+        let dark = rays.iter().zip(&unshadowed).filter(|(a, b)| a < b).count();
+        assert!(dark > 3000, "{dark} channels darkened");
+        // The maps agree with the rays but along the shadows' edges (their filtered
+        // penumbra, three texels of the 256-texel maps each way, under 8 pixels here): every
+        // pixel off by more than 2 codes lies within 8 pixels of a pixel whose ray-traced
+        // shadow state differs from its own.
+        let (w, h) = (480usize, 360usize);
+        let dark_at = |x: usize, y: usize| {
+            let i = 3 * (y * w + x);
+            (0..3).any(|c| rays[i + c] < unshadowed[i + c])
+        };
+        let near_edge = |x: usize, y: usize| {
+            let here = dark_at(x, y);
+            let (x0, y0) = (x.saturating_sub(8), y.saturating_sub(8));
+            (y0..(y + 9).min(h)).any(|v| (x0..(x + 9).min(w)).any(|u| dark_at(u, v) != here))
+        };
+        let mut off = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let i = 3 * (y * w + x);
+                if (0..3).any(|c| maps[i + c].abs_diff(rays[i + c]) > 2) {
+                    off += 1;
+                    assert!(near_edge(x, y), "pixel ({x}, {y}) off away from every edge");
+                }
+            }
+        }
+        assert!(
+            off > 0,
+            "the maps' penumbra differs from the hard shadow somewhere"
+        );
+        // The same picture for any thread count.
+        assert!(bytes_in(&s, Reference, true, 3) == rays);
+    }
+}

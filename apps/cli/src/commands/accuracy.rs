@@ -241,8 +241,9 @@ fn options(row: Row) -> FrameOptions {
         fast_phong: row.fast_phong,
         interpolation: row.interpolation,
         gouraud_vertex_clamp: row.gouraud_clamp,
-        // The report measures shading: a shadowed receiver is drawn per pixel in every mode
-        // and `reference` has no exact shadow rays, so shadows would only blur the rows.
+        // The rows measure shading: a shadowed receiver is drawn per pixel in every mode, so
+        // shadows would only blur them. The maps' error is measured apart, against
+        // `reference`'s exact shadow rays (`shadow_error`).
         shadows: Some(false),
         ..FrameOptions::default()
     }
@@ -718,6 +719,32 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         }
     );
 
+    // The rows above are drawn without shadows; the maps' own error is measured apart.
+    let shadows = super::shadow_error::measure(
+        &scene,
+        &mut fb,
+        encoding,
+        out_dir.as_deref(),
+        (HEAT_SCALE, args.force),
+    )?;
+    if let Some(s) = &shadows {
+        say!(
+            "shadow maps against exact shadow rays: phong with the scene's maps ({}) against reference with one f64 ray per pixel and light; {} covered pixels in shadow by the rays",
+            s.maps.join(", "),
+            s.shadowed_pixels
+        );
+        say!(
+            "  RMSE {}, PSNR {:.2} dB, max abs {}, max codes {:.2}, >1 code {}; one frame: phong with maps {:.1} ms, reference with rays {:.1} ms",
+            error_cell(s.stats.rmse),
+            s.stats.psnr_db,
+            error_cell(s.stats.max_abs),
+            s.stats.max_codes,
+            share_cell(Some(s.stats.share_over_code)),
+            s.ms.0,
+            s.ms.1
+        );
+    }
+
     if let Some(dir) = &out_dir {
         let points: Vec<PlotPoint> = measured
             .iter()
@@ -736,11 +763,16 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
         )?;
         crate::output::write_bytes(&dir.join("accuracy.csv"), table_csv.as_bytes(), args.force)?;
         say!(
-            "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), MODE-mach.png (edge jumps, white at {:.0}/255 for values, {:.0}/255 per pixel for slopes), error-vs-time.png, accuracy.csv",
+            "wrote {}: MODE.png, MODE-error.png (heat-map, white at {:.3} = 8/255 or more), MODE-mach.png (edge jumps, white at {:.0}/255 for values, {:.0}/255 per pixel for slopes), error-vs-time.png, accuracy.csv{}",
             dir.display(),
             HEAT_SCALE,
             MACH_VALUE_SCALE * 255.0,
-            MACH_SLOPE_SCALE * 255.0
+            MACH_SLOPE_SCALE * 255.0,
+            if shadows.is_some() {
+                ", shadow-maps-error.png"
+            } else {
+                ""
+            }
         );
     }
     Ok(())

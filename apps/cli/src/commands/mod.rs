@@ -6,6 +6,7 @@ pub mod accuracy;
 pub mod bench;
 pub mod info;
 pub mod render;
+pub mod shadow_error;
 pub mod shell;
 
 use crate::CliError;

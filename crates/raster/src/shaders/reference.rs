@@ -12,6 +12,7 @@ use crate::shader::{
     Face, MAX_QUADRATICS, MAX_VARYINGS, Pixels, ScreenTriangle, Shader, Stepped, Varyings,
     VertexLanes, put_vec3,
 };
+use crate::shadow::rays::{Occluders, RayTarget};
 use crate::texture::Texture;
 
 /// The reference mode.
@@ -30,6 +31,27 @@ pub struct Reference<'a> {
     pub texture: Option<&'a Texture>,
     /// Whether the mesh has vertex colours (varyings 12..15).
     pub colors: bool,
+    /// Lights with shadows, each added where its exact shadow ray is clear (`set` holds the
+    /// others and the ambient).
+    pub shadowed: &'a [RayLight<'a>],
+    /// The material for the lights of `shadowed`: ambient and emission zeroed (counted once,
+    /// with `set`).
+    pub direct: Material,
+}
+
+/// A light with shadows as `reference` draws it: its light alone, where it is, and what can
+/// block it.
+#[derive(Debug, Clone, Copy)]
+pub struct RayLight<'a> {
+    /// The light alone (ambient zero).
+    pub set: &'a LightSet,
+    /// Its position or direction.
+    pub target: RayTarget,
+    /// Its casters' triangles.
+    pub occluders: &'a Occluders,
+    /// The caster among them whose triangles never block (the receiver itself, where it
+    /// cannot shadow itself).
+    pub skip: Option<usize>,
 }
 
 /// Per-triangle data: screen positions, true `1/w`, and the varyings (not divided by `w`).
@@ -93,7 +115,14 @@ impl Reference<'_> {
             let derivs = [d(sx, 1, u), d(sx, 2, w), d(sy, 1, u), d(sy, 2, w)];
             tint *= texture.sample_f64(u, w, derivs);
         }
-        shade_reference_tinted(self.set, &self.mat, point, normal, self.eye, tint).as_vec3()
+        let mut colour = shade_reference_tinted(self.set, &self.mat, point, normal, self.eye, tint);
+        for light in self.shadowed {
+            if light.occluders.visibility(point, light.target, light.skip) > 0.0 {
+                colour +=
+                    shade_reference_tinted(light.set, &self.direct, point, normal, self.eye, tint);
+            }
+        }
+        colour.as_vec3()
     }
 }
 
@@ -147,6 +176,17 @@ impl Shader for Reference<'_> {
 
 /// Draws `d` exactly into `frame`: every term the draw's effects keep, in f64.
 pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
+    draw_shadowed(frame, d, d.lights, &[]);
+}
+
+/// Draws `d` exactly, its lights `shadowed` each added only where its shadow ray is clear and
+/// the lights of `rest` (with the ambient) everywhere.
+pub(crate) fn draw_shadowed(
+    frame: &mut crate::Frame,
+    d: &crate::DrawItem,
+    rest: &LightSet,
+    shadowed: &[RayLight],
+) {
     use phosphor_lighting::Effects;
     let mut mat = super::effective_material(d.material, d.effects);
     if !d.effects.contains(Effects::SPECULAR) {
@@ -155,13 +195,18 @@ pub(crate) fn draw(frame: &mut crate::Frame, d: &crate::DrawItem) {
     if !d.effects.contains(Effects::FRESNEL) {
         mat.fresnel = phosphor_lighting::Fresnel::None;
     }
+    let mut direct = mat;
+    direct.ka = Vec3::ZERO;
+    direct.emission = Vec3::ZERO;
     let shader = Reference {
-        set: d.lights,
+        set: rest,
         mat,
         eye: frame.eye().as_dvec3(),
         bump: d.bump,
         texture: d.texture,
         colors: d.mesh.colors.is_some(),
+        shadowed,
+        direct,
     };
     frame.draw(&d.mesh, d.model, &shader, d.cull_backfaces);
 }

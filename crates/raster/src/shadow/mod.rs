@@ -37,10 +37,12 @@ use crate::{MeshView, RenderOptions, RenderStats};
 pub mod cube;
 pub mod fit;
 mod lookup;
+pub mod rays;
 pub mod shade;
 
 pub use cube::{CubeFace, CubeShadow, FaceFit, fit_cube};
 pub use fit::{LightShape, NoMap, Sphere, can_shadow, fit};
+pub use rays::{Occluders, RayTarget};
 pub use shade::{LightMaps, ShadowLight};
 
 /// Largest map side accepted.

@@ -4,8 +4,9 @@
 //!
 //! A receiver is drawn per pixel whatever its mode: a shadow's edge crosses triangles, and
 //! `flat` or `gouraud` would smear it over them (one visibility per triangle or per vertex).
-//! `fast-phong`'s quadratics do not follow a shadow either, and `reference` shades in `f32`
-//! here, with the map, rather than tracing shadow rays. A texture scales the ambient and
+//! `fast-phong`'s quadratics do not follow a shadow either. `reference` traces an exact shadow
+//! ray in `f64` per pixel and light where it is given the casters' triangles
+//! ([`ShadowLight::rays`]), and otherwise shades in `f32` here, with the maps. A texture scales the ambient and
 //! diffuse light as in the tinted modes; a mesh with vertex colours is drawn without its
 //! shadows (no varyings are left for them beside the texture's mip level).
 
@@ -13,9 +14,11 @@ use phosphor_lighting::{Effects, Lanes, LightSet, Material, Vec3s, shade_terms_l
 
 use super::ShadowMap;
 use super::cube::CubeShadow;
+use super::rays::{Occluders, RayTarget};
 use crate::bump::BumpMap;
 use crate::shader::{Shader, Varyings, VertexLanes, uv_derivatives, vec3_at};
 use crate::shaders::Lit;
+use crate::shaders::reference::RayLight;
 use crate::texture::Texture;
 
 /// One light with a map, as a receiver sees it.
@@ -25,6 +28,32 @@ pub struct ShadowLight<'a> {
     pub set: &'a LightSet,
     /// Its map, or its cube map's faces.
     pub maps: LightMaps<'a>,
+    /// Its casters' triangles, for `reference`'s exact shadow rays. A `reference` draw whose
+    /// shadowed lights all have them traces rays; otherwise it looks up the maps like the
+    /// other modes.
+    pub rays: Option<&'a Occluders>,
+    /// The caster of `rays` whose triangles the draw's rays pass by: the receiver itself
+    /// where it cannot shadow itself (see [`super::rays`]).
+    pub rays_skip: Option<usize>,
+}
+
+impl LightMaps<'_> {
+    /// Where the light is, for a shadow ray: the position of a perspective view, the direction
+    /// towards an orthographic one's light.
+    #[must_use]
+    pub fn target(&self) -> RayTarget {
+        match self {
+            LightMaps::One(map) => match map.light().projection {
+                super::Projection::Orthographic { .. } => {
+                    RayTarget::Direction(map.light().toward.as_dvec3())
+                }
+                super::Projection::Perspective { .. } => {
+                    RayTarget::Position(map.light().toward.as_dvec3())
+                }
+            },
+            LightMaps::Cube(cube) => RayTarget::Position(cube.position.as_dvec3()),
+        }
+    }
 }
 
 /// The maps of one light.
@@ -115,7 +144,26 @@ pub(crate) fn draw(
     rest: &LightSet,
     shadowed: &[ShadowLight],
 ) {
-    if shadowed.is_empty() || d.mesh.colors.is_some() {
+    if shadowed.is_empty() {
+        return frame.draw_item(d);
+    }
+    if d.mode == crate::ShadingMode::Reference {
+        let rays: Option<Vec<RayLight>> = shadowed
+            .iter()
+            .map(|s| {
+                s.rays.map(|occluders| RayLight {
+                    set: s.set,
+                    target: s.maps.target(),
+                    occluders,
+                    skip: s.rays_skip,
+                })
+            })
+            .collect();
+        if let Some(rays) = rays {
+            return crate::shaders::reference::draw_shadowed(frame, d, rest, &rays);
+        }
+    }
+    if d.mesh.colors.is_some() {
         return frame.draw_item(d);
     }
     let n = d.mesh.positions.len();
