@@ -167,7 +167,10 @@ pub use reference::{shade_reference, shade_reference_tinted};
 pub use shade::{ShadeTerms, finite_intensity, shade, shade_canonical, shade_dyn, shade_split};
 #[cfg(target_arch = "x86_64")]
 pub use shade_wide::Vec3x8;
-pub use shade_wide::{TermsLanes, Vec3s, Vec3x4, shade_lanes, shade_terms_lanes, shade_x4};
+pub use shade_wide::{
+    NoneSeen, SeenLights, TermsLanes, Vec3s, Vec3x4, shade_lanes, shade_terms_lanes,
+    shade_terms_lanes_seen, shade_x4,
+};
 
 #[cfg(test)]
 mod tests;

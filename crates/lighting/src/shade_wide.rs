@@ -672,6 +672,54 @@ pub fn shade_terms_lanes<const FX: u32, L: Lanes>(
     n: Vec3s<L>,
     eye: Vec3,
 ) -> TermsLanes<L> {
+    shade_terms_lanes_seen::<FX, L, NoneSeen>(set, &NoneSeen, mat, (p, n, eye))
+}
+
+/// Lights whose light reaches each lane only in part (shadows): for [`shade_terms_lanes_seen`].
+/// Implementations should mark both methods `#[inline(always)]`: the lane code they run must
+/// be inlined into the caller's SIMD context.
+pub trait SeenLights<L: Lanes> {
+    /// How many lights (or sets of lights) there are.
+    fn count(&self) -> usize;
+    /// The lights of entry `k` (their ambient is ignored).
+    fn lights(&self, k: usize) -> &LightSet;
+    /// The share of entry `k`'s light that reaches each lane's point, in `[0, 1]`.
+    fn seen(&self, k: usize) -> L;
+}
+
+/// No lights with shadows.
+#[derive(Debug, Clone, Copy)]
+pub struct NoneSeen;
+
+impl<L: Lanes> SeenLights<L> for NoneSeen {
+    #[inline(always)]
+    fn count(&self) -> usize {
+        0
+    }
+    #[inline(always)]
+    fn lights(&self, _: usize) -> &LightSet {
+        unreachable!("NoneSeen has no lights")
+    }
+    #[inline(always)]
+    fn seen(&self, _: usize) -> L {
+        unreachable!("NoneSeen has no lights")
+    }
+}
+
+/// [`shade_terms_lanes`] of `set`, plus, for each entry `k` of `shadowed`, the lights of
+/// `shadowed.lights(k)` (their ambient ignored) with their diffuse and specular sums scaled per
+/// lane by `shadowed.seen(k)` (a shadow's visibility), added in order. Bit for bit
+/// `shade_terms_lanes(set)` followed, per entry, by `diffuse += shade_terms_lanes(lights(k)).
+/// diffuse * seen(k)` (and the same for the specular), but the normal, the view vector and the
+/// material's lane constants are made once for all of them.
+#[inline(always)]
+#[must_use]
+pub fn shade_terms_lanes_seen<const FX: u32, L: Lanes, S: SeenLights<L>>(
+    set: &LightSet,
+    shadowed: &S,
+    mat: &Material,
+    (p, n, eye): (Vec3s<L>, Vec3s<L>, Vec3),
+) -> TermsLanes<L> {
     let w = p.x;
     // The ambient terms do not depend on the lane: the scalar code's, splatted.
     let mut ambient = Vec3::ZERO;
@@ -707,38 +755,56 @@ pub fn shade_terms_lanes<const FX: u32, L: Lanes>(
         specular_model: mat.specular,
         power: Power::of(mat.shininess),
         fresnel: FresnelLanes::of::<FX>(w, mat),
-        diffuse: Vec3s::broadcast(w, Vec3::ZERO),
-        specular: Vec3s::broadcast(w, Vec3::ZERO),
+        diffuse: none,
+        specular: none,
     };
-    for light in set.directional() {
-        acc.add::<FX>(
-            Vec3s::broadcast(w, light.to_light),
-            Vec3s::broadcast(w, light.il),
-            Vec3s::broadcast(w, light.il_specular),
-        );
-    }
-    for light in set.points() {
-        acc.add_point::<FX>(light, p, Cone::None);
-    }
-    if has(FX, Effects::SPOT) {
-        for spot in set.spots() {
-            let cone = Cone::Spot {
-                axis: spot.axis,
-                cos_outer: spot.cos_outer,
-                inv_cos_width: spot.inv_cos_width,
-            };
-            acc.add_point::<FX>(&spot.point, p, cone);
-        }
-    }
-    if has(FX, Effects::DISTRIBUTED) {
-        for light in set.distributed_samples() {
-            acc.add_point::<FX>(light, p, Cone::None);
-        }
-    }
-    TermsLanes {
+    acc.add_set::<FX>(set, p);
+    let mut terms = TermsLanes {
         ambient: unlit.ambient,
         diffuse: finite_lanes(acc.diffuse),
         specular: finite_lanes(acc.specular),
+    };
+    for k in 0..shadowed.count() {
+        acc.diffuse = none;
+        acc.specular = none;
+        acc.add_set::<FX>(shadowed.lights(k), p);
+        let seen = shadowed.seen(k);
+        terms.diffuse = terms.diffuse + finite_lanes(acc.diffuse) * seen;
+        terms.specular = terms.specular + finite_lanes(acc.specular) * seen;
+    }
+    terms
+}
+
+impl<L: Lanes> Sums<L> {
+    /// Adds every light of `set` at the points `p`.
+    #[inline(always)]
+    fn add_set<const FX: u32>(&mut self, set: &LightSet, p: Vec3s<L>) {
+        let w = p.x;
+        for light in set.directional() {
+            self.add::<FX>(
+                Vec3s::broadcast(w, light.to_light),
+                Vec3s::broadcast(w, light.il),
+                Vec3s::broadcast(w, light.il_specular),
+            );
+        }
+        for light in set.points() {
+            self.add_point::<FX>(light, p, Cone::None);
+        }
+        if has(FX, Effects::SPOT) {
+            for spot in set.spots() {
+                let cone = Cone::Spot {
+                    axis: spot.axis,
+                    cos_outer: spot.cos_outer,
+                    inv_cos_width: spot.inv_cos_width,
+                };
+                self.add_point::<FX>(&spot.point, p, cone);
+            }
+        }
+        if has(FX, Effects::DISTRIBUTED) {
+            for light in set.distributed_samples() {
+                self.add_point::<FX>(light, p, Cone::None);
+            }
+        }
     }
 }
 
@@ -790,6 +856,74 @@ mod tests {
                     assert_eq!(g.to_bits(), specular_lobe(*b, e).to_bits(), "{b}^{e}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn shadowed_lights_in_one_pass_are_the_separate_passes_bit_for_bit() {
+        use crate::{Attenuation, F32x1, Light};
+        let mat = Material {
+            ks: Vec3::splat(0.6),
+            shininess: 24.0,
+            emission: Vec3::new(0.05, 0.0, 0.02),
+            ..Material::s1()
+        };
+        let mut direct = mat;
+        direct.ka = Vec3::ZERO;
+        direct.emission = Vec3::ZERO;
+        let mut key = Light::point(Vec3::new(2.0, 3.0, 1.0), Vec3::new(1.5, 1.2, 1.0)).unwrap();
+        key.attenuation = Attenuation::Offset { k: 1.0 };
+        let sun = Light::directional(Vec3::new(-0.3, -1.0, 0.2), Vec3::splat(0.7)).unwrap();
+        let fill = Light::point(Vec3::new(-2.0, 0.5, 2.0), Vec3::splat(0.4)).unwrap();
+        let rest = LightSet::new(Vec3::splat(0.3), &[fill]);
+        let alone = [
+            LightSet::new(Vec3::ZERO, &[key]),
+            LightSet::new(Vec3::ZERO, &[sun]),
+        ];
+        let eye = Vec3::new(0.0, 1.0, 4.0);
+        let like = F32x1(0.0);
+        // Normals lit, grazing, facing away and zero; visibilities 0, between and 1.
+        let normals = [
+            Vec3::Y,
+            Vec3::new(1.0, 0.01, 0.0),
+            -Vec3::Y,
+            Vec3::ZERO,
+            Vec3::new(0.3, 0.8, 0.5),
+        ];
+        for (i, n) in normals.into_iter().enumerate() {
+            let p = Vec3::new(0.1 * i as f32, -0.2, 0.3);
+            let (pl, nl) = (Vec3s::broadcast(like, p), Vec3s::broadcast(like, n));
+            let seen = [F32x1(0.25 * i as f32 % 1.0), F32x1(1.0 - 0.2 * i as f32)];
+            let mut want =
+                shade_terms_lanes::<{ Effects::ALL.bits() }, F32x1>(&rest, &mat, pl, nl, eye);
+            for (set, k) in alone.iter().zip(seen) {
+                let t =
+                    shade_terms_lanes::<{ Effects::ALL.bits() }, F32x1>(set, &direct, pl, nl, eye);
+                want.diffuse = want.diffuse + t.diffuse * k;
+                want.specular = want.specular + t.specular * k;
+            }
+            struct Two<'a>(&'a [LightSet; 2], [F32x1; 2]);
+            impl SeenLights<F32x1> for Two<'_> {
+                fn count(&self) -> usize {
+                    2
+                }
+                fn lights(&self, k: usize) -> &LightSet {
+                    &self.0[k]
+                }
+                fn seen(&self, k: usize) -> F32x1 {
+                    self.1[k]
+                }
+            }
+            let got = shade_terms_lanes_seen::<{ Effects::ALL.bits() }, F32x1, _>(
+                &rest,
+                &Two(&alone, seen),
+                &mat,
+                (pl, nl, eye),
+            );
+            let bits = |t: &TermsLanes<F32x1>| {
+                [t.ambient, t.diffuse, t.specular].map(|v| [v.x.0, v.y.0, v.z.0].map(f32::to_bits))
+            };
+            assert_eq!(bits(&got), bits(&want), "normal {n}");
         }
     }
 

@@ -3,23 +3,13 @@
 //! and the lane lookup gives each lane its own face's one-lane value.
 #![allow(clippy::unwrap_used)]
 
-use glam::{Mat4, Vec3};
-use phosphor_lighting::{Vec3s, f32x4};
-use phosphor_mesh::Mesh;
-use phosphor_mesh::primitives::uv_sphere;
-use phosphor_raster::shadow::{Caster, CubeFace, CubeShadow, NoMap, ShadowMap, Sphere, fit_cube};
-use phosphor_raster::{MeshView, RenderOptions};
+mod common;
 
-fn view(m: &Mesh) -> MeshView<'_> {
-    MeshView {
-        positions: &m.positions,
-        normals: &m.normals,
-        uvs: None,
-        tangents: None,
-        colors: None,
-        indices: &m.indices,
-    }
-}
+use common::{lanes4, view};
+use glam::{Mat4, Vec3};
+use phosphor_mesh::primitives::uv_sphere;
+use phosphor_raster::RenderOptions;
+use phosphor_raster::shadow::{Caster, CubeFace, CubeShadow, NoMap, ShadowMap, Sphere, fit_cube};
 
 /// Radius of each caster ball, one unit from the light.
 const BALL: f32 = 0.2;
@@ -203,18 +193,7 @@ fn lanes_on_different_faces_give_their_one_lane_values() {
     let mut dark = 0;
     for (k, quad) in points.chunks_exact(4).enumerate() {
         let ns: [Vec3; 4] = std::array::from_fn(|i| -quad[i].normalize_or_zero() * (k % 3) as f32);
-        let lanes =
-            |f: fn(Vec3) -> f32, v: &[Vec3]| f32x4::from([f(v[0]), f(v[1]), f(v[2]), f(v[3])]);
-        let p = Vec3s::new(
-            lanes(|v| v.x, quad),
-            lanes(|v| v.y, quad),
-            lanes(|v| v.z, quad),
-        );
-        let n = Vec3s::new(
-            lanes(|v| v.x, &ns),
-            lanes(|v| v.y, &ns),
-            lanes(|v| v.z, &ns),
-        );
+        let (p, n) = (lanes4(quad.try_into().unwrap()), lanes4(&ns));
         let got = cube.visibility_lanes(p, n).to_array();
         for i in 0..4 {
             let want = cube.visibility(quad[i], ns[i]);

@@ -3,8 +3,11 @@
 //! same picture for any thread count and SIMD width.
 #![allow(clippy::unwrap_used)]
 
+mod common;
+
 use std::f32::consts::PI;
 
+use common::{lanes4, view};
 use glam::{Mat4, Vec3};
 use phosphor_lighting::{Effects, Light, LightSet, Material};
 use phosphor_mesh::Mesh;
@@ -12,19 +15,8 @@ use phosphor_raster::shadow::{
     Caster, CubeFace, LightMaps, LightShape, NoMap, ShadowLight, ShadowMap, Sphere, fit, fit_cube,
 };
 use phosphor_raster::{
-    Camera, DrawItem, Frame, Framebuffer, MeshView, RenderOptions, ShadingMode, SimdLevel,
+    Camera, DrawItem, Frame, Framebuffer, RenderOptions, ShadingMode, SimdLevel,
 };
-
-fn view(m: &Mesh) -> MeshView<'_> {
-    MeshView {
-        positions: &m.positions,
-        normals: &m.normals,
-        uvs: None,
-        tangents: None,
-        colors: None,
-        indices: &m.indices,
-    }
-}
 
 /// A map of `casters` (mesh, model, bounds) for `light`, over the receiver `receiver`.
 fn map_of(
@@ -414,7 +406,6 @@ fn visibility_by_definition(map: &ShadowMap, p: Vec3, n: Vec3) -> f32 {
 
 #[test]
 fn lane_lookup_is_the_definition_bit_for_bit() {
-    use phosphor_lighting::{Vec3s, f32x4};
     let (cube, model, bounds, floor) = cube_over_floor();
     let [spot, point] = spot_and_point();
     let directional = LightShape::Directional {
@@ -455,18 +446,7 @@ fn lane_lookup_is_the_definition_bit_for_bit() {
         // Four different points per vector: each lane is its own one-lane lookup.
         for (k, quad) in points.chunks_exact(4).enumerate() {
             let ns: [Vec3; 4] = std::array::from_fn(|i| normals[(k + i) % normals.len()]);
-            let lanes =
-                |f: fn(Vec3) -> f32, v: &[Vec3]| f32x4::from([f(v[0]), f(v[1]), f(v[2]), f(v[3])]);
-            let p = Vec3s::new(
-                lanes(|v| v.x, quad),
-                lanes(|v| v.y, quad),
-                lanes(|v| v.z, quad),
-            );
-            let n = Vec3s::new(
-                lanes(|v| v.x, &ns),
-                lanes(|v| v.y, &ns),
-                lanes(|v| v.z, &ns),
-            );
+            let (p, n) = (lanes4(quad.try_into().unwrap()), lanes4(&ns));
             let got = map.visibility_lanes(p, n).to_array();
             for i in 0..4 {
                 let want = map.visibility(quad[i], ns[i]);

@@ -10,7 +10,7 @@
 //! diffuse light as in the tinted modes; a mesh with vertex colours is drawn without its
 //! shadows (no varyings are left for them beside the texture's mip level).
 
-use phosphor_lighting::{Effects, Lanes, LightSet, Material, Vec3s, shade_terms_lanes};
+use phosphor_lighting::{Effects, Lanes, LightSet, SeenLights, Vec3s, shade_terms_lanes_seen};
 
 use super::ShadowMap;
 use super::cube::CubeShadow;
@@ -85,9 +85,6 @@ impl LightMaps<'_> {
 pub struct Shadowed<'a, const FX: u32, const BUMP: bool> {
     /// The lights without maps, the material, the viewer.
     pub lit: Lit<'a>,
-    /// The material for the lights with maps: ambient and emission zeroed (counted once, in
-    /// `lit`).
-    pub direct: Material,
     /// The lights with maps.
     pub shadowed: &'a [ShadowLight<'a>],
     /// The colour map, if any.
@@ -112,14 +109,13 @@ impl<const FX: u32, const BUMP: bool> Shader for Shadowed<'_, FX, BUMP> {
             n = crate::shaders::phong::perturbed(map, n, v);
         }
         let lit = &self.lit;
-        let mut terms = shade_terms_lanes::<FX, L>(lit.set, &lit.mat, p, n, lit.eye);
-        for s in self.shadowed {
-            let t = shade_terms_lanes::<FX, L>(s.set, &self.direct, p, n, lit.eye);
-            // The geometric normal sets the bias: the map holds the surface, not its bumps.
-            let seen = s.maps.visibility_lanes(p, geometric);
-            terms.diffuse = terms.diffuse + t.diffuse * seen;
-            terms.specular = terms.specular + t.specular * seen;
-        }
+        // One lighting pass: the normal and the view made once for the lights with maps too.
+        let at = Receiving {
+            lights: self.shadowed,
+            p,
+            geometric,
+        };
+        let terms = shade_terms_lanes_seen::<FX, L, _>(lit.set, &at, &lit.mat, (p, n, lit.eye));
         match self.texture {
             Some(texture) => {
                 let like = v[0];
@@ -132,6 +128,29 @@ impl<const FX: u32, const BUMP: bool> Shader for Shadowed<'_, FX, BUMP> {
             }
             None => terms.total(),
         }
+    }
+}
+
+/// The lights with maps at one group of pixels: their visibility at the surface points `p`
+/// with the geometric normal (the map holds the surface, not its bumps).
+struct Receiving<'a, L> {
+    lights: &'a [ShadowLight<'a>],
+    p: Vec3s<L>,
+    geometric: Vec3s<L>,
+}
+
+impl<L: Lanes> SeenLights<L> for Receiving<'_, L> {
+    #[inline(always)]
+    fn count(&self) -> usize {
+        self.lights.len()
+    }
+    #[inline(always)]
+    fn lights(&self, k: usize) -> &LightSet {
+        self.lights[k].set
+    }
+    #[inline(always)]
+    fn seen(&self, k: usize) -> L {
+        self.lights[k].maps.visibility_lanes(self.p, self.geometric)
     }
 }
 
@@ -173,15 +192,12 @@ pub(crate) fn draw(
         .bump
         .filter(|_| has_frame && d.effects.contains(Effects::BUMP));
     let lit = Lit::new(rest, d.material, d.effects, frame.eye());
-    let mut direct = lit.mat;
-    direct.ka = glam::Vec3::ZERO;
-    direct.emission = glam::Vec3::ZERO;
     let texture = d.texture;
     let (mesh, model, cull) = (&d.mesh, d.model, d.cull_backfaces);
     match bump {
         Some(map) => crate::with_fx!(d.effects, FX => frame.draw(mesh, model,
-            &Shadowed::<FX, true> { lit, direct, shadowed, texture, bump: Some(map) }, cull)),
+            &Shadowed::<FX, true> { lit, shadowed, texture, bump: Some(map) }, cull)),
         None => crate::with_fx!(d.effects, FX => frame.draw(mesh, model,
-            &Shadowed::<FX, false> { lit, direct, shadowed, texture, bump: None }, cull)),
+            &Shadowed::<FX, false> { lit, shadowed, texture, bump: None }, cull)),
     }
 }
