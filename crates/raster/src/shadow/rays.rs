@@ -20,10 +20,10 @@ use glam::{DMat4, DVec3};
 use super::Caster;
 
 /// Most triangles in a leaf.
-const LEAF: usize = 4;
+pub const LEAF: usize = 4;
 /// Hits nearer the ray's origin than this share of its length (or, towards a directional
 /// light, than this many units times the point's scale) are the receiver's own surface.
-const SELF_HIT: f64 = 1e-7;
+pub const SELF_HIT: f64 = 1e-7;
 
 /// Where a light is, for its shadow rays.
 #[derive(Debug, Clone, Copy, PartialEq)]
