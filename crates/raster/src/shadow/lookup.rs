@@ -126,11 +126,17 @@ impl ShadowMap {
         let (x0, y0) = (x0.to_lanes(), y0.to_lanes());
         let (mut upper, mut lower) = ([[0.0; 8]; 8], [[0.0; 8]; 8]);
         for k in 0..L::N {
-            let first = (y0[k] + (PAD - 1) as f32) as usize * self.stride
-                + (x0[k] + (PAD - 1) as f32) as usize;
+            // Whole numbers in `[-3, size + 1]` (or 0): through `i32`, whose conversion is a
+            // single instruction where `usize`'s is a branchy sequence.
+            let row = (y0[k] as i32 + (PAD as i32 - 1)).max(0) as usize;
+            let col = (x0[k] as i32 + (PAD as i32 - 1)).max(0) as usize;
+            let first = row * self.stride + col;
             let at = |j: usize| -> [f32; 4] {
                 let s = first + j * self.stride;
-                self.distance[s..s + 4].try_into().unwrap_or([f32::MAX; 4])
+                self.distance
+                    .get(s..s + 4)
+                    .and_then(|r| r.try_into().ok())
+                    .unwrap_or([f32::MAX; 4])
             };
             let (r0, r1, r2, r3) = (at(0), at(1), at(2), at(3));
             upper[k] = [r0[0], r0[1], r0[2], r0[3], r1[0], r1[1], r1[2], r1[3]];
