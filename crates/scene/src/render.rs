@@ -202,6 +202,9 @@ pub fn render_plan(
             frame.draw_item(d);
             continue;
         }
+        // A receiver that cannot shadow itself lets its exact shadow rays pass its own
+        // triangles.
+        let own = plan.casters.iter().position(|c| c.is_self_of(o));
         // One entry per light: its map, or the faces of its cube map this object receives.
         let mut shadowed: Vec<ShadowLight> = Vec::new();
         let mut done: Vec<usize> = Vec::new();
@@ -229,18 +232,13 @@ pub fn render_plan(
             } else {
                 LightMaps::One(map)
             };
-            // The light's occluders sit with its first map; a receiver that cannot shadow
-            // itself lets its rays pass its own triangles.
+            // The light's occluders sit with its first map.
             let rays = plan
                 .shadows
                 .maps
                 .iter()
                 .position(|n| n.light == m.light)
                 .and_then(|first| occluders[first].as_ref());
-            let own = plan
-                .casters
-                .iter()
-                .position(|c| c.name == o.name && c.model == o.model && !c.concave);
             shadowed.push(ShadowLight {
                 set: &alone[k],
                 maps: light_maps,

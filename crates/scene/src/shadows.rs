@@ -52,6 +52,15 @@ pub struct ShadowCaster {
     pub concave: bool,
 }
 
+impl ShadowCaster {
+    /// Whether this caster is the planned object `o` (the same entity's mesh, placed alike),
+    /// and so one that cannot shadow it where it is not concave.
+    #[must_use]
+    pub fn is_self_of(&self, o: &PlannedObject) -> bool {
+        self.name == o.name && self.model == o.model && !self.concave
+    }
+}
+
 /// A map the frame makes.
 #[derive(Debug, Clone)]
 pub struct PlannedShadow {
@@ -264,8 +273,7 @@ pub fn plan_shadows(
         for (ci, c) in casters.iter().enumerate() {
             for &ri in &receivers {
                 let r = &objects[ri];
-                let same = c.name == r.name && c.model == r.model;
-                if same && !c.concave {
+                if c.is_self_of(r) {
                     continue;
                 }
                 if can_shadow(&shape, &c.bounds, &bounds_of(r)) {

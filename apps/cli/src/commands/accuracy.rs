@@ -723,7 +723,7 @@ pub fn run(args: &AccuracyArgs) -> Result<(), CliError> {
     let shadows = super::shadow_error::measure(
         &scene,
         &mut fb,
-        encoding,
+        (encoding, &reference),
         out_dir.as_deref(),
         (HEAT_SCALE, args.force),
     )?;

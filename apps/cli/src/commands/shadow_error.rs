@@ -7,6 +7,8 @@
 use std::path::Path;
 use std::time::Instant;
 
+use phosphor_math::glam::Vec3;
+
 use phosphor_raster::framebuffer::FAR_DEPTH;
 use phosphor_raster::{Encoding, Framebuffer, ShadingMode};
 use phosphor_scene::{FrameOptions, Scene, ShadingChoice, render_frame};
@@ -28,16 +30,18 @@ pub struct ShadowError {
     pub ms: (f64, f64),
 }
 
-fn options(mode: ShadingMode, shadows: Option<bool>) -> FrameOptions {
+fn options(mode: ShadingMode) -> FrameOptions {
     FrameOptions {
         shading: Some(ShadingChoice::Mode(mode)),
-        shadows,
+        // As the scene says.
+        shadows: None,
         threads: 0,
         ..FrameOptions::default()
     }
 }
 
-/// Measures the shadow maps' error on `scene`, or `None` when its plan makes no map. With
+/// Measures the shadow maps' error on `scene`, or `None` when its plan makes no map;
+/// `unshadowed` is the report's own `reference` frame, drawn with shadows off. With
 /// `out_dir`, writes `shadow-maps-error.png` there (white at `scale`).
 ///
 /// # Errors
@@ -45,12 +49,12 @@ fn options(mode: ShadingMode, shadows: Option<bool>) -> FrameOptions {
 pub fn measure(
     scene: &Scene,
     fb: &mut Framebuffer,
-    encoding: Encoding,
+    (encoding, unshadowed): (Encoding, &[Vec3]),
     out_dir: Option<&Path>,
     (scale, force): (f32, bool),
 ) -> Result<Option<ShadowError>, CliError> {
     let start = Instant::now();
-    let report = render_frame(scene, fb, &options(ShadingMode::Reference, None));
+    let report = render_frame(scene, fb, &options(ShadingMode::Reference));
     let rays_ms = start.elapsed().as_secs_f64() * 1e3;
     if report.plan.shadows.maps.is_empty() {
         return Ok(None);
@@ -70,15 +74,14 @@ pub fn measure(
         .collect();
     let rays = fb.color().to_vec();
     let covered: Vec<bool> = fb.depth().iter().map(|&z| z < FAR_DEPTH).collect();
-    render_frame(scene, fb, &options(ShadingMode::Reference, Some(false)));
     let shadowed_pixels = rays
         .iter()
-        .zip(fb.color())
+        .zip(unshadowed)
         .zip(&covered)
         .filter(|((a, b), c)| **c && (a.x < b.x || a.y < b.y || a.z < b.z))
         .count();
     let start = Instant::now();
-    render_frame(scene, fb, &options(ShadingMode::Phong, None));
+    render_frame(scene, fb, &options(ShadingMode::Phong));
     let maps_ms = start.elapsed().as_secs_f64() * 1e3;
     let image = fb.color().to_vec();
     let stats = compare(&image, &rays, Some(&covered), encoding)
