@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{lanes4, view};
+use common::{extents, lanes4, view};
 use glam::{Mat4, Vec3};
 use phosphor_mesh::primitives::uv_sphere;
 use phosphor_raster::RenderOptions;
@@ -36,7 +36,7 @@ fn cube_of(dirs: &[Vec3], size: u32) -> (Vec<ShadowMap>, Vec<CubeFace>) {
             radius: 1.5,
         })
         .collect();
-    let faces = fit_cube(Vec3::ZERO, &casters, &walls, size).unwrap();
+    let faces = fit_cube(Vec3::ZERO, &extents(&casters), &extents(&walls), None, size).unwrap();
     let maps = faces
         .iter()
         .map(|f| {
@@ -150,7 +150,14 @@ fn faces_with_nothing_to_cast_are_not_made_and_read_lit() {
         radius: 0.5,
     }];
     assert_eq!(
-        fit_cube(Vec3::ZERO, &far_caster, &wall, 128).unwrap_err(),
+        fit_cube(
+            Vec3::ZERO,
+            &extents(&far_caster),
+            &extents(&wall),
+            None,
+            128
+        )
+        .unwrap_err(),
         NoMap::NothingBetween
     );
     let bad = [Sphere {
@@ -158,7 +165,7 @@ fn faces_with_nothing_to_cast_are_not_made_and_read_lit() {
         radius: 0.5,
     }];
     assert_eq!(
-        fit_cube(Vec3::ZERO, &bad, &wall, 128).unwrap_err(),
+        fit_cube(Vec3::ZERO, &extents(&bad), &extents(&wall), None, 128).unwrap_err(),
         NoMap::Degenerate
     );
 }

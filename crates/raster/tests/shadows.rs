@@ -7,7 +7,7 @@ mod common;
 
 use std::f32::consts::PI;
 
-use common::{lanes4, view};
+use common::{extents, lanes4, view};
 use glam::{Mat4, Vec3};
 use phosphor_lighting::{Effects, Light, LightSet, Material};
 use phosphor_mesh::Mesh;
@@ -167,7 +167,7 @@ fn point_light_surrounded_by_casters_takes_a_cube() {
     // No single cone holds them; the cube's four side faces do (each ball shadows the
     // balls beside it only through its own face and its neighbours').
     assert_eq!(fit(&light, &around, &around).unwrap_err(), NoMap::TooWide);
-    let faces = fit_cube(Vec3::ZERO, &around, &around, 256).unwrap();
+    let faces = fit_cube(Vec3::ZERO, &extents(&around), &extents(&around), None, 256).unwrap();
     let made: Vec<CubeFace> = faces.iter().map(|f| f.face).collect();
     for face in [
         CubeFace::PosX,
@@ -243,6 +243,17 @@ fn no_light_leaks_where_the_shadow_meets_its_caster() {
 
 /// A sphere over a floor under one directional light with a map, drawn at `opts`.
 fn frame_bytes(opts: &RenderOptions, mode: ShadingMode) -> Vec<u8> {
+    floor_frame(opts, mode, None, true)
+}
+
+/// [`frame_bytes`] with the floor's vertices all of colour `floor_color`, and the light's map
+/// used or not.
+fn floor_frame(
+    opts: &RenderOptions,
+    mode: ShadingMode,
+    floor_color: Option<Vec3>,
+    with_map: bool,
+) -> Vec<u8> {
     let sphere = phosphor_mesh::primitives::uv_sphere(0.5, 48, 24);
     let floor = phosphor_mesh::primitives::plane(2.0, 4);
     let up = Mat4::from_translation(Vec3::new(0.0, 0.2, 0.0));
@@ -268,6 +279,7 @@ fn frame_bytes(opts: &RenderOptions, mode: ShadingMode) -> Vec<u8> {
         model: up,
     }];
     let map = ShadowMap::render(&v, 512, &casters, opts).unwrap();
+    let colors = floor_color.map(|c| vec![c; floor.positions.len()]);
     let shadowed = [ShadowLight {
         set: &alone,
         maps: LightMaps::One(&map),
@@ -301,10 +313,16 @@ fn frame_bytes(opts: &RenderOptions, mode: ShadingMode) -> Vec<u8> {
     };
     let mut fb = Framebuffer::new(160, 120).unwrap();
     let mut frame = Frame::new(&mut fb, &camera, opts);
-    let floor_item = item(&floor, down, &material, &all, mode);
+    let mut floor_item = item(&floor, down, &material, &all, mode);
+    floor_item.mesh.colors = colors.as_deref();
     let sphere_item = item(&sphere, up, &material, &all, mode);
-    frame.draw_shadowed(&floor_item, &rest, &shadowed);
-    frame.draw_shadowed(&sphere_item, &rest, &shadowed);
+    let (rest, shadowed) = if with_map {
+        (&rest, &shadowed[..])
+    } else {
+        (&all, &[][..])
+    };
+    frame.draw_shadowed(&floor_item, rest, shadowed);
+    frame.draw_shadowed(&sphere_item, rest, shadowed);
     frame.finish();
     fb.to_rgb8(phosphor_raster::Encoding::Linear)
 }
@@ -338,6 +356,35 @@ fn shadowed_frame_is_the_same_for_any_threads_and_width() {
         // The shadow is there: the floor below the sphere, along the light, is dark.
         let lit: Vec<u32> = base.chunks(3).map(|c| u32::from(c[0])).collect();
         assert!(lit.iter().any(|&c| c < 60) && lit.iter().any(|&c| c > 150));
+    }
+}
+
+#[test]
+fn a_vertex_coloured_receiver_takes_its_shadow_and_its_colour() {
+    let opts = RenderOptions {
+        threads: 1,
+        ..RenderOptions::default()
+    };
+    let tint = Vec3::new(1.0, 0.25, 0.25);
+    let plain = floor_frame(&opts, ShadingMode::Phong, None, true);
+    for mode in [ShadingMode::Phong, ShadingMode::Gouraud, ShadingMode::Flat] {
+        let shadowed = floor_frame(&opts, mode, Some(tint), true);
+        let open = floor_frame(&opts, mode, Some(tint), false);
+        // Pixels the map darkens: lit without the map, in shadow with it.
+        let darkened = shadowed
+            .chunks(3)
+            .zip(open.chunks(3))
+            .filter(|(s, o)| u32::from(s[0]) + 60 < u32::from(o[0]))
+            .count();
+        assert!(darkened > 300, "{mode}: only {darkened} pixels in shadow");
+        // The same frame with a plain floor: the colour takes green and blue from the floor's
+        // lit pixels (the specular highlight stays untinted, so only most pixels change).
+        let redder = shadowed
+            .chunks(3)
+            .zip(plain.chunks(3))
+            .filter(|(s, p)| s[0] > 40 && s[1] < p[1] && s[2] < p[2])
+            .count();
+        assert!(redder > 3000, "{mode}: only {redder} tinted pixels");
     }
 }
 

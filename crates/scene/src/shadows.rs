@@ -7,7 +7,9 @@
 //! cannot shadow itself: a sphere, a cube or a cylinder primitive (convex, so the lighting's
 //! `N.L <= 0` already darkens what faces away) or a flat mesh. So a single convex object over
 //! nothing gets no map, and neither does a light behind every receiver. The map's view is
-//! fitted to the casters and receivers that passed ([`phosphor_raster::shadow::fit()`]).
+//! fitted to the casters and receivers that passed ([`phosphor_raster::shadow::fit()`]). A
+//! point light's cube map makes a face only where one of those pairs both reach into it,
+//! judged by sphere and world box ([`phosphor_raster::shadow::fit_cube`]).
 //!
 //! Size: the scene's `shadow_size`, or by default the next power of two above the largest
 //! receiver's diameter on screen (capped by the picture's larger side), within
@@ -20,7 +22,7 @@ use std::sync::Arc;
 use glam::Mat4;
 use phosphor_lighting::{Light, LightKind};
 use phosphor_raster::shadow::{
-    CubeFace, LightShape, LightView, NoMap, ShadowMap, Sphere, can_shadow, fit, fit_cube,
+    CubeFace, Extent, LightShape, LightView, NoMap, ShadowMap, Sphere, can_shadow, fit, fit_cube,
 };
 use phosphor_raster::{Camera, Projection};
 
@@ -208,6 +210,24 @@ fn bounds_of(o: &PlannedObject) -> Sphere {
     }
 }
 
+/// The world box of a mesh with object-space bounds `bounds` placed by `model`: the box of
+/// its eight corners, or `None` where that is not finite.
+fn world_box((lo, hi): (glam::Vec3, glam::Vec3), model: &Mat4) -> Option<(glam::Vec3, glam::Vec3)> {
+    let corners = (0..8).map(|i| {
+        let pick = |bit: usize, a: f32, b: f32| if i & bit == 0 { a } else { b };
+        model.transform_point3(glam::Vec3::new(
+            pick(1, lo.x, hi.x),
+            pick(2, lo.y, hi.y),
+            pick(4, lo.z, hi.z),
+        ))
+    });
+    let (min, max) = corners.fold(
+        (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
+        |(a, b), p| (a.min(p), b.max(p)),
+    );
+    (min.is_finite() && max.is_finite()).then_some((min, max))
+}
+
 /// A map to make: the cube face it is (if any), its view, its casters and its receivers.
 type View = (Option<CubeFace>, LightView, Vec<usize>, Vec<usize>);
 
@@ -270,6 +290,7 @@ pub fn plan_shadows(
         }
         let mut used_casters = Vec::new();
         let mut used_receivers = Vec::new();
+        let mut pairs = Vec::new();
         for (ci, c) in casters.iter().enumerate() {
             for &ri in &receivers {
                 let r = &objects[ri];
@@ -283,10 +304,17 @@ pub fn plan_shadows(
                     if !used_receivers.contains(&ri) {
                         used_receivers.push(ri);
                     }
+                    pairs.push((ci, ri));
                 }
             }
         }
         used_receivers.sort_unstable();
+        // The pairs as positions in the used lists, for the cube's faces.
+        let at = |list: &[usize], i: usize| list.iter().position(|&x| x == i).unwrap_or(0);
+        let pairs: Vec<(usize, usize)> = pairs
+            .iter()
+            .map(|&(c, r)| (at(&used_casters, c), at(&used_receivers, r)))
+            .collect();
         let caster_spheres: Vec<Sphere> = used_casters.iter().map(|&c| casters[c].bounds).collect();
         let receiver_spheres: Vec<Sphere> = used_receivers
             .iter()
@@ -309,7 +337,34 @@ pub fn plan_shadows(
             let LightShape::Point { position } = shape else {
                 return Err(NoMap::TooWide);
             };
-            let faces = fit_cube(position, &caster_spheres, &receiver_spheres, size)?;
+            let extent = |sphere: Sphere, bounds, model: &Mat4| Extent {
+                sphere,
+                aabb: world_box(bounds, model),
+            };
+            let caster_extents: Vec<Extent> = used_casters
+                .iter()
+                .map(|&c| {
+                    extent(
+                        casters[c].bounds,
+                        casters[c].mesh.info.bounds,
+                        &casters[c].model,
+                    )
+                })
+                .collect();
+            let receiver_extents: Vec<Extent> = used_receivers
+                .iter()
+                .map(|&r| {
+                    let o = &objects[r];
+                    extent(bounds_of(o), o.mesh.info.bounds, &o.model)
+                })
+                .collect();
+            let faces = fit_cube(
+                position,
+                &caster_extents,
+                &receiver_extents,
+                Some(&pairs),
+                size,
+            )?;
             Ok(faces
                 .into_iter()
                 .map(|f| {

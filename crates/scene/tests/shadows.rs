@@ -271,6 +271,41 @@ position = [0.0, 1.0, 0.0]"#;
     }
 }
 
+#[test]
+fn a_cube_makes_no_face_that_only_flat_objects_reach() {
+    // A bulb over a floor, a wall behind reaching above the bulb and below the floor, and a
+    // ball beside the bulb. The floor and the wall can shadow each other where the wall
+    // passes under the floor, so both are casters; but only the wall reaches the upward face,
+    // and it cannot shadow itself: no caster can darken a receiver through that face.
+    let bulb = r#"type = "point"
+position = [0.0, 1.0, 0.0]"#;
+    let objects = format!(
+        "{FLOOR}
+[[objects]]
+name = \"wall\"
+primitive = {{ shape = \"plane\", half_size = 4.0, subdivisions = 4 }}
+material = \"m\"
+transform = {{ translate = [0.0, 1.5, -2.5], rotate_deg = [90, 0, 0] }}
+
+[[objects]]
+name = \"ball\"
+primitive = {{ shape = \"sphere\", radius = 0.4, segments = 24, rings = 12 }}
+material = \"m\"
+transform = {{ translate = [1.5, 0.3, 0.0] }}
+"
+    );
+    let s = scene(bulb, &objects);
+    let (maps, text) = plan_text(&s, None);
+    assert!(maps >= 1, "{text}");
+    assert!(!text.contains("cube face +y"), "{text}");
+    assert!(text.contains("cube face +x"), "{text}");
+    // The ball's shadow still falls on the floor.
+    let on = bytes(&s, None, 1);
+    let off = bytes(&s, Some(false), 1);
+    let darker = on.iter().zip(&off).filter(|(a, b)| a < b).count();
+    assert!(darker > 100, "{darker} channels darkened");
+}
+
 /// `scene` drawn in `mode` with shadows on or off, at 480x360.
 fn bytes_in(
     scene: &Scene,

@@ -42,7 +42,7 @@ fn texel<L: Lanes>(texture: Option<&Texture>, u: L, v: L, d: [L; 4]) -> Option<V
 
 /// `a * b`, either missing counting as white; white when both are.
 #[inline(always)]
-fn times<L: Lanes>(a: Option<Vec3s<L>>, b: Option<Vec3s<L>>, like: L) -> Vec3s<L> {
+pub(crate) fn times<L: Lanes>(a: Option<Vec3s<L>>, b: Option<Vec3s<L>>, like: L) -> Vec3s<L> {
     match (a, b) {
         (Some(a), Some(b)) => a * b,
         (Some(a), None) | (None, Some(a)) => a,

@@ -134,6 +134,53 @@ fn touches(face: CubeFace, position: Vec3, s: &Sphere, tan_half: f32) -> bool {
     off_axis - (s.radius / d).asin() < corner
 }
 
+/// Whether the world box `[lo, hi]` can reach into the frustum of `face` from `position`:
+/// it is not wholly behind the light along the face's axis, nor wholly outside one of the
+/// frustum's four side planes (a box may pass that lies outside near a corner, as in any
+/// plane-by-plane cull). Tighter than the bounding
+/// sphere for flat and long objects: a floor below the light never reaches the upward face.
+fn box_touches(face: CubeFace, position: Vec3, (lo, hi): (Vec3, Vec3), tan_half: f32) -> bool {
+    let (lo, hi) = (lo - position, hi - position);
+    let a = face.axis();
+    // Inside is `m . q >= 0` for `m = a` (in front of the light) and for the side planes'
+    // normals `m = t a -+ w`: outside when even the box's farthest corner along one `m` is
+    // below.
+    let reaches = |m: Vec3| m.dot(Vec3::select(m.cmpgt(Vec3::ZERO), hi, lo)) >= 0.0;
+    let across = [Vec3::X, Vec3::Y, Vec3::Z]
+        .into_iter()
+        .filter(|w| w.dot(a) == 0.0);
+    reaches(a)
+        && across
+            .flat_map(|w| [w, -w])
+            .all(|w| reaches(a * tan_half - w))
+}
+
+/// A caster or a receiver as [`fit_cube`] sees it: its bounding sphere and, where known, its
+/// world-space box (lowest and highest corner).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Extent {
+    /// The bounding sphere.
+    pub sphere: Sphere,
+    /// The world box, if known.
+    pub aabb: Option<(Vec3, Vec3)>,
+}
+
+impl From<Sphere> for Extent {
+    fn from(sphere: Sphere) -> Extent {
+        Extent { sphere, aabb: None }
+    }
+}
+
+impl Extent {
+    /// Whether it can reach into the frustum of `face`: by its sphere, and by its box.
+    fn touches(&self, face: CubeFace, position: Vec3, tan_half: f32) -> bool {
+        touches(face, position, &self.sphere, tan_half)
+            && self
+                .aabb
+                .is_none_or(|b| box_touches(face, position, b, tan_half))
+    }
+}
+
 /// One face of a cube map worth making: its view and which casters and receivers reach
 /// into its frustum (indices into the slices given to [`fit_cube`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -142,26 +189,30 @@ pub struct FaceFit {
     pub face: CubeFace,
     /// Its view from the light.
     pub view: LightView,
-    /// The casters that reach into it.
+    /// The casters that reach into it (and, given pairs, can shadow a receiver there).
     pub casters: Vec<usize>,
-    /// The receivers that reach into it.
+    /// The receivers that reach into it (and, given pairs, some caster there can shadow).
     pub receivers: Vec<usize>,
 }
 
 /// The faces of a cube map at `position` worth making for maps of side `size`: those whose
-/// frustum some caster of `casters` and some receiver of `receivers` both reach. Near and far
-/// are fitted per face (near from its casters, far from its receivers).
+/// frustum some caster of `casters` and some receiver of `receivers` both reach. With
+/// `pairs` (`(caster, receiver)` indices: which caster can shadow which receiver), a face
+/// needs a pair that both reach it, so a flat object that shadows another only elsewhere
+/// makes no face of its own. Near and far are fitted per face (near from its casters, far
+/// from its receivers).
 ///
 /// # Errors
 /// [`NoMap::NothingBetween`] when no face has both, [`NoMap::Degenerate`] for a position or
-/// sphere that is not finite.
+/// bounds that are not finite.
 pub fn fit_cube(
     position: Vec3,
-    casters: &[Sphere],
-    receivers: &[Sphere],
+    casters: &[Extent],
+    receivers: &[Extent],
+    pairs: Option<&[(usize, usize)]>,
     size: u32,
 ) -> Result<Vec<FaceFit>, NoMap> {
-    let all = || casters.iter().chain(receivers);
+    let all = || casters.iter().chain(receivers).map(|e| &e.sphere);
     if !position.is_finite()
         || all().any(|s| !s.center.is_finite() || !s.radius.is_finite() || s.radius < 0.0)
     {
@@ -172,22 +223,37 @@ pub fn fit_cube(
     let corner_cos = 1.0 / (1.0 + 2.0 * tan_half * tan_half).sqrt();
     let mut faces = Vec::new();
     for face in CubeFace::ALL {
-        let reaching = |set: &[Sphere]| -> Vec<usize> {
-            (0..set.len())
-                .filter(|&i| touches(face, position, &set[i], tan_half))
+        let reaching = |set: &[Extent]| -> Vec<bool> {
+            set.iter()
+                .map(|e| e.touches(face, position, tan_half))
                 .collect()
         };
-        let (cs, rs) = (reaching(casters), reaching(receivers));
+        let (ct, rt) = (reaching(casters), reaching(receivers));
+        let (mut cs, mut rs): (Vec<usize>, Vec<usize>) = match pairs {
+            None => (
+                (0..casters.len()).filter(|&i| ct[i]).collect(),
+                (0..receivers.len()).filter(|&i| rt[i]).collect(),
+            ),
+            Some(pairs) => pairs
+                .iter()
+                .filter(|&&(c, r)| ct.get(c) == Some(&true) && rt.get(r) == Some(&true))
+                .copied()
+                .unzip(),
+        };
+        cs.sort_unstable();
+        cs.dedup();
+        rs.sort_unstable();
+        rs.dedup();
         if cs.is_empty() || rs.is_empty() {
             continue;
         }
         let near = cs
             .iter()
-            .map(|&i| casters[i].center.distance(position) - casters[i].radius)
+            .map(|&i| casters[i].sphere.center.distance(position) - casters[i].sphere.radius)
             .fold(f32::MAX, f32::min);
         let far = rs
             .iter()
-            .map(|&i| receivers[i].center.distance(position) + receivers[i].radius)
+            .map(|&i| receivers[i].sphere.center.distance(position) + receivers[i].sphere.radius)
             .fold(f32::MIN, f32::max);
         let near = (near * corner_cos * 0.99).max(far * 1e-3).max(1e-4);
         if near >= far {

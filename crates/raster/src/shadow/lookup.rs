@@ -3,6 +3,12 @@
 //! stored with [`PAD`] texels of "no caster" around it, so a footprint that reaches past the
 //! edge reads them instead of testing each texel's position. [`ShadowMap::visibility`] is the
 //! one-lane case, so every lane width gives its bits.
+//!
+//! Most points are wholly lit or wholly in shadow, so the map also keeps, per texel, the least
+//! and greatest distance of the footprint that starts there ([`footprint_ranges`]). Where no
+//! lane's footprint straddles its point's distance, the lookup reads those two values per lane
+//! instead of sixteen, and gives the same bits: the tent weights summed in the same order, or
+//! zero.
 
 use glam::Vec3;
 use phosphor_lighting::{F32x1, Lanes, Vec3s};
@@ -124,15 +130,40 @@ impl ShadowMap {
         // A 3 x 3 box of bilinear taps at offsets -1, 0, 1: tent weights over texels
         // x0 - 1 ..= x0 + 2, rows y0 - 1 ..= y0 + 2 (padded: slot `i + PAD` holds texel `i`).
         let (x0, y0) = (x0.to_lanes(), y0.to_lanes());
-        let (mut upper, mut lower) = ([[0.0; 8]; 8], [[0.0; 8]; 8]);
+        let mut first = [0usize; 8];
+        let (mut least, mut most) = ([f32::MAX; 8], [f32::MAX; 8]);
         for k in 0..L::N {
             // Whole numbers in `[-3, size + 1]` (or 0): through `i32`, whose conversion is a
             // single instruction where `usize`'s is a branchy sequence.
             let row = (y0[k] as i32 + (PAD as i32 - 1)).max(0) as usize;
             let col = (x0[k] as i32 + (PAD as i32 - 1)).max(0) as usize;
-            let first = row * self.stride + col;
+            first[k] = row * self.stride + col;
+            [least[k], most[k]] = self.ranges.get(first[k]).copied().unwrap_or([f32::MAX; 2]);
+        }
+        let wx = [one - tx, one, one, tx];
+        let wy = [one - ty, one, one, ty];
+        // A lane whose footprint is wholly nearer than its point (or wholly not) has all 16
+        // comparisons true (false): its weights summed as below, term by term (or zero). When
+        // no valid lane is partly lit, that is the result, with the same bits.
+        let whole = compare.cmp_le(like.with_lanes(least));
+        let reaches = compare.cmp_le(like.with_lanes(most));
+        let partial = valid.mask_bits() & reaches.mask_bits() & !whole.mask_bits();
+        if partial == 0 {
+            let mut row = zero;
+            for wx in wx {
+                row = row + wx;
+            }
+            let mut lit = zero;
+            for w in wy {
+                lit = lit + row * w;
+            }
+            let lit = (lit / like.splat(9.0)).max_c(zero).min_c(one) & whole;
+            return valid.blend(lit, one);
+        }
+        let (mut upper, mut lower) = ([[0.0; 8]; 8], [[0.0; 8]; 8]);
+        for k in 0..L::N {
             let at = |j: usize| -> [f32; 4] {
-                let s = first + j * self.stride;
+                let s = first[k] + j * self.stride;
                 self.distance
                     .get(s..s + 4)
                     .and_then(|r| r.try_into().ok())
@@ -143,8 +174,6 @@ impl ShadowMap {
             lower[k] = [r2[0], r2[1], r2[2], r2[3], r3[0], r3[1], r3[2], r3[3]];
         }
         let (u, l) = (like.columns(&upper), like.columns(&lower));
-        let wx = [one - tx, one, one, tx];
-        let wy = [one - ty, one, one, ty];
         let mut lit = zero;
         for (j, w) in wy.iter().enumerate() {
             let taps = if j < 2 { &u } else { &l };
@@ -160,9 +189,72 @@ impl ShadowMap {
     }
 }
 
+/// Fills `ranges[i]` with the least and greatest of the 4 x 4 values of `distance` (rows of
+/// `stride`) whose top-left is at `i`, clipped to the array.
+pub(super) fn footprint_ranges(distance: &[f32], stride: usize, ranges: &mut [[f32; 2]]) {
+    // Written as selects, not `f32::min`, so that they run in vectors (no NaN is stored).
+    let min = |a: f32, b: f32| if b < a { b } else { a };
+    let max = |a: f32, b: f32| if b > a { b } else { a };
+    let (mut least, mut most) = (vec![0.0; stride], vec![0.0; stride]);
+    let rows: Vec<&[f32]> = distance.chunks_exact(stride).collect();
+    for (r, out) in ranges.chunks_exact_mut(stride).enumerate() {
+        // Down the columns, then along the row.
+        least.copy_from_slice(rows[r]);
+        most.copy_from_slice(rows[r]);
+        for below in rows.iter().skip(r + 1).take(3) {
+            for ((lo, hi), &d) in least.iter_mut().zip(most.iter_mut()).zip(below.iter()) {
+                *lo = min(*lo, d);
+                *hi = max(*hi, d);
+            }
+        }
+        // Four columns at a time where they fit, then the last three by what is left.
+        let lows = least
+            .iter()
+            .zip(&least[1..])
+            .zip(&least[2..])
+            .zip(&least[3..]);
+        let highs = most.iter().zip(&most[1..]).zip(&most[2..]).zip(&most[3..]);
+        for (out, ((((&l0, &l1), &l2), &l3), (((&h0, &h1), &h2), &h3))) in
+            out.iter_mut().zip(lows.zip(highs))
+        {
+            *out = [min(min(l0, l1), min(l2, l3)), max(max(h0, h1), max(h2, h3))];
+        }
+        for c in stride.saturating_sub(3)..stride {
+            let lo = least[c..].iter().fold(f32::MAX, |a, &b| min(a, b));
+            let hi = most[c..].iter().fold(f32::MIN, |a, &b| max(a, b));
+            out[c] = [lo, hi];
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::next_toward;
+
+    #[test]
+    fn footprint_ranges_bound_each_block() {
+        let stride = 7;
+        let distance: Vec<f32> = (0..stride * stride)
+            .map(|i| ((i * 37 % 23) as f32) - 5.0)
+            .collect();
+        let mut ranges = vec![[0.0; 2]; stride * stride];
+        super::footprint_ranges(&distance, stride, &mut ranges);
+        for r in 0..stride {
+            for c in 0..stride {
+                let block: Vec<f32> = (r..(r + 4).min(stride))
+                    .flat_map(|y| (c..(c + 4).min(stride)).map(move |x| (y, x)))
+                    .map(|(y, x)| distance[y * stride + x])
+                    .collect();
+                let lo = block.iter().copied().fold(f32::INFINITY, f32::min);
+                let hi = block.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+                assert_eq!(
+                    ranges[r * stride + c],
+                    [lo, hi],
+                    "block at row {r}, column {c}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn next_toward_steps_one_float() {

@@ -40,7 +40,7 @@ mod lookup;
 pub mod rays;
 pub mod shade;
 
-pub use cube::{CubeFace, CubeShadow, FaceFit, fit_cube};
+pub use cube::{CubeFace, CubeShadow, Extent, FaceFit, fit_cube};
 pub use fit::{LightShape, NoMap, Sphere, can_shadow, fit};
 pub use rays::{Occluders, RayTarget};
 pub use shade::{LightMaps, ShadowLight};
@@ -146,7 +146,8 @@ pub struct Caster<'a> {
 
 /// Largest map side whose buffers are kept for the next map (see [`SPARE`]).
 const MAX_SPARE_SIZE: u32 = 2048;
-/// Distance arrays kept per thread (a frame's maps are alive together: one per light).
+/// Distance and range arrays kept per thread, of each (a frame's maps are alive together: one
+/// per light).
 const MAX_SPARE_DISTANCES: usize = 4;
 
 /// Buffers of the maps last rendered on this thread, for the next ones: a map is rendered
@@ -157,6 +158,7 @@ const MAX_SPARE_DISTANCES: usize = 4;
 struct Spare {
     frame: Option<Framebuffer>,
     distances: Vec<Vec<f32>>,
+    ranges: Vec<Vec<[f32; 2]>>,
 }
 
 thread_local! {
@@ -172,6 +174,10 @@ pub struct ShadowMap {
     /// Row after row, `stride` texels each: [`lookup::PAD`] texels of `f32::MAX` on every
     /// side of the `size` x `size` distances.
     distance: Vec<f32>,
+    /// Per texel of `distance`, the least and greatest distance of the 4 x 4 texels from it
+    /// rightwards and downwards (fewer at the array's last rows and columns): the lookup's
+    /// footprint, so that a point wholly lit or wholly in shadow skips the 16 comparisons.
+    ranges: Vec<[f32; 2]>,
     stride: usize,
     /// World size of a texel: at unit distance for perspective, everywhere for orthographic.
     texel: f32,
@@ -181,11 +187,15 @@ impl Drop for ShadowMap {
     fn drop(&mut self) {
         if self.size <= MAX_SPARE_SIZE {
             let distance = std::mem::take(&mut self.distance);
+            let ranges = std::mem::take(&mut self.ranges);
             // `try_with`: a map dropped while its thread ends keeps nothing.
             let _ = SPARE.try_with(|s| {
-                let list = &mut s.borrow_mut().distances;
-                if list.len() < MAX_SPARE_DISTANCES {
-                    list.push(distance);
+                let spare = &mut *s.borrow_mut();
+                if spare.distances.len() < MAX_SPARE_DISTANCES {
+                    spare.distances.push(distance);
+                }
+                if spare.ranges.len() < MAX_SPARE_DISTANCES {
+                    spare.ranges.push(ranges);
                 }
             });
         }
@@ -194,11 +204,11 @@ impl Drop for ShadowMap {
 
 impl ShadowMap {
     /// Bytes rendering a map of side `size` takes at its peak (the frame's colour and depth,
-    /// then the padded distances).
+    /// then the padded distances and their footprints' ranges).
     #[must_use]
     pub fn bytes_for(size: u32) -> u64 {
         let padded = u64::from(size) + 2 * lookup::PAD as u64;
-        u64::from(size) * u64::from(size) * 16 + padded * padded * 4
+        u64::from(size) * u64::from(size) * 16 + padded * padded * 12
     }
 
     /// Renders the casters as `light` sees them into a `size` x `size` map, with `opts`'
@@ -283,6 +293,14 @@ impl ShadowMap {
         if fb.width() <= MAX_SPARE_SIZE {
             SPARE.with(|s| s.borrow_mut().frame = Some(fb));
         }
+        let mut ranges = SPARE
+            .with(|s| {
+                let list = &mut s.borrow_mut().ranges;
+                let at = list.iter().position(|r| r.len() == stride * stride);
+                at.map(|i| list.swap_remove(i))
+            })
+            .unwrap_or_else(|| vec![[0.0; 2]; stride * stride]);
+        lookup::footprint_ranges(&distance, stride, &mut ranges);
         let texel = match light.projection {
             Projection::Orthographic { half_width } => 2.0 * half_width / size as f32,
             Projection::Perspective { tan_half } => 2.0 * tan_half / size as f32,
@@ -291,6 +309,7 @@ impl ShadowMap {
             light: *light,
             size,
             distance,
+            ranges,
             stride,
             texel,
         })

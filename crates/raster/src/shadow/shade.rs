@@ -6,9 +6,10 @@
 //! `flat` or `gouraud` would smear it over them (one visibility per triangle or per vertex).
 //! `fast-phong`'s quadratics do not follow a shadow either. `reference` traces an exact shadow
 //! ray in `f64` per pixel and light where it is given the casters' triangles
-//! ([`ShadowLight::rays`]), and otherwise shades in `f32` here, with the maps. A texture scales the ambient and
-//! diffuse light as in the tinted modes; a mesh with vertex colours is drawn without its
-//! shadows (no varyings are left for them beside the texture's mip level).
+//! ([`ShadowLight::rays`]), and otherwise shades in `f32` here, with the maps. A texture and
+//! vertex colours scale the ambient and diffuse light as in the tinted modes. A receiver with
+//! a bump map or vertex colours takes the wide form of the shader, whose varyings leave no
+//! room for the texture's mip level: it samples the finest level, as tinted `phong` does.
 
 use phosphor_lighting::{Effects, Lanes, LightSet, SeenLights, Vec3s, shade_terms_lanes_seen};
 
@@ -16,9 +17,10 @@ use super::ShadowMap;
 use super::cube::CubeShadow;
 use super::rays::{Occluders, RayTarget};
 use crate::bump::BumpMap;
-use crate::shader::{Shader, Varyings, VertexLanes, uv_derivatives, vec3_at};
+use crate::shader::{Shader, Varyings, VertexLanes, put_vec3, uv_derivatives, vec3_at};
 use crate::shaders::Lit;
 use crate::shaders::reference::RayLight;
+use crate::shaders::tinted::times;
 use crate::texture::Texture;
 
 /// One light with a map, as a receiver sees it.
@@ -78,34 +80,42 @@ impl LightMaps<'_> {
     }
 }
 
-/// Per-pixel shading with shadows for effect set `FX`, with or without bump mapping.
-/// Varyings: world position 0..3, normal 3..6, uv 6..8, with `BUMP` the tangent 8..12 (and
-/// then the texture's finest level, as the tinted Phong mode does).
+/// Per-pixel shading with shadows for effect set `FX`. Varyings: world position 0..3,
+/// normal 3..6, uv 6..8; the `WIDE` form adds the tangent 8..12 and the vertex colour 12..15
+/// (and then samples the texture's finest level, as the tinted Phong mode does). One wide form
+/// serves bump maps and vertex colours alike, so that receivers add no second copy of the
+/// shader per effect set.
 #[derive(Debug, Clone, Copy)]
-pub struct Shadowed<'a, const FX: u32, const BUMP: bool> {
+pub struct Shadowed<'a, const FX: u32, const WIDE: bool> {
     /// The lights without maps, the material, the viewer.
     pub lit: Lit<'a>,
     /// The lights with maps.
     pub shadowed: &'a [ShadowLight<'a>],
     /// The colour map, if any.
     pub texture: Option<&'a Texture>,
-    /// The height field (used only when `BUMP`).
+    /// The height field (used only when `WIDE`).
     pub bump: Option<&'a BumpMap>,
+    /// Whether the vertex colours tint the surface (used only when `WIDE`).
+    pub colored: bool,
 }
 
-impl<const FX: u32, const BUMP: bool> Shader for Shadowed<'_, FX, BUMP> {
-    const VARYINGS: usize = if BUMP { 12 } else { 8 };
-    const GRADIENTS: Option<usize> = if BUMP { None } else { Some(6) };
+impl<const FX: u32, const WIDE: bool> Shader for Shadowed<'_, FX, WIDE> {
+    const VARYINGS: usize = if WIDE { 15 } else { 8 };
+    const GRADIENTS: Option<usize> = if WIDE { None } else { Some(6) };
     type Stepped = ();
     #[inline(always)]
     fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L> {
-        crate::shaders::phong::surface_varyings(v, true)
+        let mut out = crate::shaders::phong::surface_varyings(v, true);
+        if WIDE {
+            put_vec3(&mut out, 12, v.color);
+        }
+        out
     }
     #[inline(always)]
     fn pixel<L: Lanes>(&self, v: &Varyings<L>) -> Vec3s<L> {
         let (p, geometric) = (vec3_at(v, 0), vec3_at(v, 3));
         let mut n = geometric;
-        if let (true, Some(map)) = (BUMP, self.bump) {
+        if let (true, Some(map)) = (WIDE, self.bump) {
             n = crate::shaders::phong::perturbed(map, n, v);
         }
         let lit = &self.lit;
@@ -116,17 +126,29 @@ impl<const FX: u32, const BUMP: bool> Shader for Shadowed<'_, FX, BUMP> {
             geometric,
         };
         let terms = shade_terms_lanes_seen::<FX, L, _>(lit.set, &at, &lit.mat, (p, n, lit.eye));
-        match self.texture {
+        let like = v[0];
+        // No closures here: one the compiler leaves out of line is compiled without the
+        // caller's AVX2, and every lane operation in it becomes a call.
+        let texel = match self.texture {
             Some(texture) => {
-                let like = v[0];
-                let d = if BUMP {
+                let d = if WIDE {
                     [like.splat(0.0); 4]
                 } else {
                     uv_derivatives::<Self, L>(v)
                 };
-                terms.modulated(texture.sample_lanes(v[6], v[7], d))
+                Some(texture.sample_lanes(v[6], v[7], d))
             }
-            None => terms.total(),
+            None => None,
+        };
+        let color = if WIDE && self.colored {
+            Some(vec3_at(v, 12))
+        } else {
+            None
+        };
+        if texel.is_none() && color.is_none() {
+            terms.total()
+        } else {
+            terms.modulated(times(texel, color, like))
         }
     }
 }
@@ -155,8 +177,7 @@ impl<L: Lanes> SeenLights<L> for Receiving<'_, L> {
 }
 
 /// Draws `d` with its lights `shadowed` (each with a map) shadowed: `rest` holds the draw's
-/// other lights and its ambient, `d.lights` all of them (used when the draw cannot take
-/// shadows: vertex colours, or no light has a map).
+/// other lights and its ambient, `d.lights` all of them (used when no light has a map).
 pub(crate) fn draw(
     frame: &mut crate::Frame,
     d: &crate::DrawItem,
@@ -182,9 +203,6 @@ pub(crate) fn draw(
             return crate::shaders::reference::draw_shadowed(frame, d, rest, &rays);
         }
     }
-    if d.mesh.colors.is_some() {
-        return frame.draw_item(d);
-    }
     let n = d.mesh.positions.len();
     let has_frame =
         d.mesh.uvs.is_some_and(|u| u.len() == n) && d.mesh.tangents.is_some_and(|t| t.len() == n);
@@ -193,11 +211,13 @@ pub(crate) fn draw(
         .filter(|_| has_frame && d.effects.contains(Effects::BUMP));
     let lit = Lit::new(rest, d.material, d.effects, frame.eye());
     let texture = d.texture;
+    let colored = d.mesh.colors.is_some_and(|c| c.len() == n);
     let (mesh, model, cull) = (&d.mesh, d.model, d.cull_backfaces);
-    match bump {
-        Some(map) => crate::with_fx!(d.effects, FX => frame.draw(mesh, model,
-            &Shadowed::<FX, true> { lit, shadowed, texture, bump: Some(map) }, cull)),
-        None => crate::with_fx!(d.effects, FX => frame.draw(mesh, model,
-            &Shadowed::<FX, false> { lit, shadowed, texture, bump: None }, cull)),
+    if bump.is_some() || colored {
+        crate::with_fx!(d.effects, FX => frame.draw(mesh, model,
+            &Shadowed::<FX, true> { lit, shadowed, texture, bump, colored }, cull))
+    } else {
+        crate::with_fx!(d.effects, FX => frame.draw(mesh, model,
+            &Shadowed::<FX, false> { lit, shadowed, texture, bump: None, colored }, cull))
     }
 }

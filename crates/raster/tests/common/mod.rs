@@ -22,3 +22,10 @@ pub fn lanes4(v: &[Vec3; 4]) -> Vec3s<f32x4> {
     let lane = |f: fn(Vec3) -> f32| f32x4::from(v.map(f));
     Vec3s::new(lane(|v| v.x), lane(|v| v.y), lane(|v| v.z))
 }
+
+/// Bounding spheres as cube-map extents, with no boxes.
+pub fn extents(
+    spheres: &[phosphor_raster::shadow::Sphere],
+) -> Vec<phosphor_raster::shadow::Extent> {
+    spheres.iter().map(|&s| s.into()).collect()
+}
