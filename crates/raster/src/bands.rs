@@ -93,8 +93,14 @@ pub(crate) fn draw_bands<S: Shader>(
     let run = |(b, ((color, depth), dirty)): (usize, Rows)| -> u64 {
         if let Some(bg) = clear {
             // The frame's clear, deferred to here: each band clears its rows in parallel,
-            // just before drawing them (they stay in cache).
-            clear_rows((color, depth, dirty), width, bg, only_dirty);
+            // just before drawing them (they stay in cache). A depth-only draw never wrote
+            // the colour, so it keeps its last clear.
+            let shown: &mut [Vec3] = if input.depth_only {
+                &mut []
+            } else {
+                &mut *color
+            };
+            clear_rows((shown, &mut *depth, &mut *dirty), width, bg, only_dirty);
         }
         let y0 = b as i64 * band_rows as i64;
         let in_band: usize = input.records(b).map(|(_, r)| r.len()).sum();

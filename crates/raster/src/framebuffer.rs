@@ -421,7 +421,8 @@ pub(crate) fn same_color(clean: Option<Vec3>, bg: Vec3) -> bool {
 
 /// Clears rows `width` pixels wide (`color`, `depth` and their `dirty` extents, one per row):
 /// colour to `bg`, depth to the far plane, every row marked clean. With `only_dirty` (the rows
-/// already hold `bg` outside their dirty columns) only the dirty columns are rewritten.
+/// already hold `bg` outside their dirty columns) only the dirty columns are rewritten. An
+/// empty `color` clears the depth alone.
 pub(crate) fn clear_rows(
     (color, depth, dirty): (&mut [Vec3], &mut [f32], &mut [(u32, u32)]),
     width: u32,
@@ -432,11 +433,13 @@ pub(crate) fn clear_rows(
     if !only_dirty {
         fill_rows(color, depth, bg);
     } else {
-        let rows = color.chunks_mut(width).zip(depth.chunks_mut(width));
-        for ((c, d), &(lo, hi)) in rows.zip(dirty.iter()) {
+        for (y, (d, &(lo, hi))) in depth.chunks_mut(width).zip(dirty.iter()).enumerate() {
             let (lo, hi) = (lo as usize, (hi as usize).min(width));
             if lo < hi {
-                fill_rows(&mut c[lo..hi], &mut d[lo..hi], bg);
+                let c = color
+                    .get_mut(y * width + lo..y * width + hi)
+                    .unwrap_or_default();
+                fill_rows(c, &mut d[lo..hi], bg);
             }
         }
     }

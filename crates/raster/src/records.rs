@@ -10,7 +10,7 @@ use crate::coverage::{BandTarget, Pass};
 use crate::incremental::{IncrementalTri, traverse_incremental};
 use crate::setup::{RasterTri, ScreenPos};
 use crate::shader::{Face, Shader};
-use crate::traverse::{Batched, OnePixel, Solid, SpanShade, SteppedSpan, traverse};
+use crate::traverse::{Batched, DepthOnly, OnePixel, Solid, SpanShade, SteppedSpan, traverse};
 
 /// How many records ahead the band loops touch vertex data ([`BandInput::touch`]).
 pub(crate) const AHEAD: usize = 4;
@@ -35,6 +35,9 @@ pub(crate) struct BandInput<'a, S: Shader> {
     pub wide: Wide,
     /// The framebuffer's largest intensity, that every colour is clamped to.
     pub ceiling: f32,
+    /// Only depth is written (a constant-colour shader drawing a shadow map): the colour
+    /// buffer is left as it was, uncleared.
+    pub depth_only: bool,
 }
 
 impl<S: Shader> BandInput<'_, S> {
@@ -136,6 +139,9 @@ impl<S: Shader> BandInput<'_, S> {
     ) -> u64 {
         match S::FACE {
             Face::Constant => {
+                if self.depth_only {
+                    return traverse(t, &mut DepthOnly, target);
+                }
                 let color = c.colors.get(r.tri as usize).copied().unwrap_or(Vec3::ZERO);
                 return traverse(t, &mut Solid::of(color, self.ceiling), target);
             }

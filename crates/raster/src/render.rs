@@ -135,7 +135,7 @@ impl<'f> Frame<'f> {
             shader,
             &opts,
             &mut stats,
-            (block, false, cull),
+            (block, false, cull, false),
         );
         self.stats = stats;
     }
@@ -266,7 +266,7 @@ pub fn coverage_counts(
             &fill,
             opts,
             &mut stats,
-            (1, true, cull),
+            (1, true, cull, false),
         );
     }
     Ok(fb.color.iter().map(|c| c.x as u32).collect())
@@ -283,19 +283,27 @@ pub(crate) fn run_depth(
     stats: &mut RenderStats,
 ) {
     let fill = Fill { color: Vec3::ZERO };
-    run(fb, (vp, mesh, model), &fill, opts, stats, (1, false, false));
+    run(
+        fb,
+        (vp, mesh, model),
+        &fill,
+        opts,
+        stats,
+        (1, false, false, true),
+    );
 }
 
 /// Runs `shader` over one draw through the three stages: vertex, bin (both in parallel over
 /// the mesh, in order) and bands. `block`: samples per pixel side of a multisampled image (1:
-/// none); `count`: the coverage-count hook.
+/// none); `count`: the coverage-count hook; `depth_only`: a constant-colour shader writes
+/// depth alone (a shadow map), and the colour is neither written nor cleared.
 fn run<S: Shader>(
     fb: &mut Framebuffer,
     (vp, mesh, model): (Mat4, &MeshView, Mat4),
     shader: &S,
     opts: &RenderOptions,
     stats: &mut RenderStats,
-    (block, count, cull): (u32, bool, bool),
+    (block, count, cull, depth_only): (u32, bool, bool, bool),
 ) {
     let view = Viewport::new(fb.width(), fb.height(), opts.perspective_correct, block);
     let wide = Wide {
@@ -325,6 +333,7 @@ fn run<S: Shader>(
             && S::FACE == Face::Interpolated,
         wide,
         ceiling: fb.ceiling,
+        depth_only: depth_only && S::FACE == Face::Constant,
     };
     stats.pixels_shaded += draw_bands(fb, &input, threads, count, block);
 }

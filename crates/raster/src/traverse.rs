@@ -65,6 +65,20 @@ impl SpanShade for Solid {
     fn step(_: &mut ()) {}
 }
 
+/// No colour at all: the depth test and write alone (a shadow map's casters).
+pub(crate) struct DepthOnly;
+
+impl SpanShade for DepthOnly {
+    const ATTRS: usize = 0;
+    type Span = ();
+    #[inline(always)]
+    fn span(&self, _: f64, _: f64) {}
+    #[inline(always)]
+    fn pixel(&mut self, _: &(), _: usize, _: (&Attrs, f32), _: (i64, i64), _: &mut [Vec3]) {}
+    #[inline(always)]
+    fn step(_: &mut ()) {}
+}
+
 impl Solid {
     /// The colour `c`, clamped to `[0, ceiling]` as every colour written is.
     #[must_use]

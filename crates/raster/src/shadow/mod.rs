@@ -11,8 +11,8 @@
 //!   ([`cube`]): up to six faces, only those through which a caster can shadow a receiver.
 //! * **Rendering** ([`ShadowMap::render`]): the casters go through the frame's own stages
 //!   (clipping, the top-left coverage rule, the exact depth of every pixel, bands in parallel)
-//!   with a constant-colour shader, so the map is the same for any thread count; its depths
-//!   are then turned into distances along the light's axis.
+//!   writing depth alone, so the map is the same for any thread count; its depths are then
+//!   turned into distances along the light's axis, and each texel's footprint range taken.
 //! * **Lookup** ([`ShadowMap::visibility`]): percentage-closer filtering (Reeves, Salesin and
 //!   Cook 1987) over a 4 x 4-texel footprint with tent weights, which is a 3 x 3 box of
 //!   bilinear 2 x 2 taps: the comparisons are filtered, not the depths, so the result is the
