@@ -189,15 +189,25 @@ impl ShadowMap {
     }
 }
 
-/// Fills `ranges[i]` with the least and greatest of the 4 x 4 values of `distance` (rows of
-/// `stride`) whose top-left is at `i`, clipped to the array.
-pub(super) fn footprint_ranges(distance: &[f32], stride: usize, ranges: &mut [[f32; 2]]) {
+/// Fills `ranges` (whole rows from row `first_row` on) with, at each texel, the least and
+/// greatest of the 4 x 4 values of `distance` (rows of `stride`) whose top-left it is,
+/// clipped to the array.
+pub(super) fn footprint_ranges(
+    distance: &[f32],
+    stride: usize,
+    first_row: usize,
+    ranges: &mut [[f32; 2]],
+) {
     // Written as selects, not `f32::min`, so that they run in vectors (no NaN is stored).
     let min = |a: f32, b: f32| if b < a { b } else { a };
     let max = |a: f32, b: f32| if b > a { b } else { a };
     let (mut least, mut most) = (vec![0.0; stride], vec![0.0; stride]);
     let rows: Vec<&[f32]> = distance.chunks_exact(stride).collect();
     for (r, out) in ranges.chunks_exact_mut(stride).enumerate() {
+        let r = first_row + r;
+        if r >= rows.len() {
+            break;
+        }
         // Down the columns, then along the row.
         least.copy_from_slice(rows[r]);
         most.copy_from_slice(rows[r]);
@@ -238,7 +248,8 @@ mod tests {
             .map(|i| ((i * 37 % 23) as f32) - 5.0)
             .collect();
         let mut ranges = vec![[0.0; 2]; stride * stride];
-        super::footprint_ranges(&distance, stride, &mut ranges);
+        super::footprint_ranges(&distance, stride, 0, &mut ranges[..3 * stride]);
+        super::footprint_ranges(&distance, stride, 3, &mut ranges[3 * stride..]);
         for r in 0..stride {
             for c in 0..stride {
                 let block: Vec<f32> = (r..(r + 4).min(stride))

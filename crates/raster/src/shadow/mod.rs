@@ -32,6 +32,7 @@
 use glam::{Mat4, Vec3};
 
 use crate::framebuffer::{FAR_DEPTH, Framebuffer, RasterError};
+use crate::parallel::for_each_chunk_pair;
 use crate::{MeshView, RenderOptions, RenderStats};
 
 pub mod cube;
@@ -143,6 +144,9 @@ pub struct Caster<'a> {
     /// Object to world.
     pub model: Mat4,
 }
+
+/// Rows of a map converted per parallel task.
+const ROWS_PER_TASK: usize = 32;
 
 /// Largest map side whose buffers are kept for the next map (see [`SPARE`]).
 const MAX_SPARE_SIZE: u32 = 2048;
@@ -284,12 +288,28 @@ impl ShadowMap {
                 at.map(|i| list.swap_remove(i))
             })
             .unwrap_or_else(|| vec![f32::MAX; stride * stride]);
-        for (y, src) in fb.depth.chunks_exact(side).enumerate() {
-            let start = (y + lookup::PAD) * stride + lookup::PAD;
-            for (out, &d) in distance[start..start + side].iter_mut().zip(src) {
-                *out = to_distance(d);
-            }
-        }
+        // Rows in parallel, like the map's bands (each row is its own; the same bits for any
+        // thread count).
+        let depth = &fb.depth;
+        let inside = &mut distance[lookup::PAD * stride..(lookup::PAD + side) * stride];
+        let task = ROWS_PER_TASK * stride;
+        for_each_chunk_pair(
+            opts.threads,
+            inside,
+            &mut [0u8; 0],
+            (task, 0),
+            |first, out, _| {
+                for (i, row) in out.chunks_exact_mut(stride).enumerate() {
+                    let y = first / stride + i;
+                    let Some(src) = depth.get(y * side..(y + 1) * side) else {
+                        continue;
+                    };
+                    for (out, &d) in row[lookup::PAD..lookup::PAD + side].iter_mut().zip(src) {
+                        *out = to_distance(d);
+                    }
+                }
+            },
+        );
         if fb.width() <= MAX_SPARE_SIZE {
             SPARE.with(|s| s.borrow_mut().frame = Some(fb));
         }
@@ -300,7 +320,16 @@ impl ShadowMap {
                 at.map(|i| list.swap_remove(i))
             })
             .unwrap_or_else(|| vec![[0.0; 2]; stride * stride]);
-        lookup::footprint_ranges(&distance, stride, &mut ranges);
+        let (all, task) = (&distance[..], ROWS_PER_TASK * stride);
+        for_each_chunk_pair(
+            opts.threads,
+            &mut ranges,
+            &mut [0u8; 0],
+            (task, 0),
+            |first, out, _| {
+                lookup::footprint_ranges(all, stride, first / stride, out);
+            },
+        );
         let texel = match light.projection {
             Projection::Orthographic { half_width } => 2.0 * half_width / size as f32,
             Projection::Perspective { tan_half } => 2.0 * tan_half / size as f32,
