@@ -169,6 +169,19 @@ thread_local! {
     static SPARE: std::cell::RefCell<Spare> = std::cell::RefCell::default();
 }
 
+/// A kept buffer of `len` items from `list`, if there is one.
+fn take_spare<T>(list: &mut Vec<Vec<T>>, len: usize) -> Option<Vec<T>> {
+    let at = list.iter().position(|b| b.len() == len)?;
+    Some(list.swap_remove(at))
+}
+
+/// Keeps `buffer` in `list` for the next map, unless the list is full.
+fn keep_spare<T>(list: &mut Vec<Vec<T>>, buffer: Vec<T>) {
+    if list.len() < MAX_SPARE_DISTANCES {
+        list.push(buffer);
+    }
+}
+
 /// A light's depth map: per texel, the distance along the light's axis of the nearest caster
 /// (`f32::MAX` where none).
 #[derive(Debug, Clone)]
@@ -195,12 +208,8 @@ impl Drop for ShadowMap {
             // `try_with`: a map dropped while its thread ends keeps nothing.
             let _ = SPARE.try_with(|s| {
                 let spare = &mut *s.borrow_mut();
-                if spare.distances.len() < MAX_SPARE_DISTANCES {
-                    spare.distances.push(distance);
-                }
-                if spare.ranges.len() < MAX_SPARE_DISTANCES {
-                    spare.ranges.push(ranges);
-                }
+                keep_spare(&mut spare.distances, distance);
+                keep_spare(&mut spare.ranges, ranges);
             });
         }
     }
@@ -282,11 +291,7 @@ impl ShadowMap {
         let stride = side + 2 * lookup::PAD;
         // A spare of the same size has its padding already (only the inside is written).
         let mut distance = SPARE
-            .with(|s| {
-                let list = &mut s.borrow_mut().distances;
-                let at = list.iter().position(|d| d.len() == stride * stride);
-                at.map(|i| list.swap_remove(i))
-            })
+            .with(|s| take_spare(&mut s.borrow_mut().distances, stride * stride))
             .unwrap_or_else(|| vec![f32::MAX; stride * stride]);
         // Rows in parallel, like the map's bands (each row is its own; the same bits for any
         // thread count).
@@ -314,11 +319,7 @@ impl ShadowMap {
             SPARE.with(|s| s.borrow_mut().frame = Some(fb));
         }
         let mut ranges = SPARE
-            .with(|s| {
-                let list = &mut s.borrow_mut().ranges;
-                let at = list.iter().position(|r| r.len() == stride * stride);
-                at.map(|i| list.swap_remove(i))
-            })
+            .with(|s| take_spare(&mut s.borrow_mut().ranges, stride * stride))
             .unwrap_or_else(|| vec![[0.0; 2]; stride * stride]);
         let (all, task) = (&distance[..], ROWS_PER_TASK * stride);
         for_each_chunk_pair(
