@@ -160,6 +160,17 @@ pub(crate) fn shade_rows<S: Shader, L: Lanes, const N: usize>(
     ceiling: f32,
 ) -> [Vec3; N] {
     let c = shader.pixel(&varyings_of_rows::<S, L, N>(like, rows));
+    clamped_colors(c, count, ceiling)
+}
+
+/// The first `N` lanes of `c` as colours clamped to `[0, ceiling]` with NaN and `-0.0` as
+/// `+0.0` (in debug builds, the first `count` checked finite).
+#[inline(always)]
+pub(crate) fn clamped_colors<L: Lanes, const N: usize>(
+    c: phosphor_lighting::Vec3s<L>,
+    count: usize,
+    ceiling: f32,
+) -> [Vec3; N] {
     if cfg!(debug_assertions) {
         let v = c.to_vecs();
         for (k, v) in v.iter().enumerate().take(count.min(N)) {
@@ -167,7 +178,7 @@ pub(crate) fn shade_rows<S: Shader, L: Lanes, const N: usize>(
         }
     }
     // `max_c` and `min_c` are the scalar selects `x > 0 ? x : 0` and `x < c ? x : c`.
-    let (zero, top) = (like.splat(0.0), like.splat(ceiling));
+    let (zero, top) = (c.x.splat(0.0), c.x.splat(ceiling));
     let clamp = |x: L| x.max_c(zero).min_c(top);
     let c = phosphor_lighting::Vec3s::new(clamp(c.x), clamp(c.y), clamp(c.z)).to_vecs();
     std::array::from_fn(|i| c[i])

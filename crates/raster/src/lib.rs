@@ -88,6 +88,7 @@ pub mod shader;
 pub mod shaders;
 pub mod shadow;
 pub mod simd;
+pub(crate) mod stepped;
 pub mod texture;
 pub(crate) mod traverse;
 pub(crate) mod vertex;

@@ -10,7 +10,8 @@ use crate::coverage::{BandTarget, Pass};
 use crate::incremental::{IncrementalTri, traverse_incremental};
 use crate::setup::{RasterTri, ScreenPos};
 use crate::shader::{Face, Shader};
-use crate::traverse::{Batched, DepthOnly, OnePixel, Solid, SpanShade, SteppedSpan, traverse};
+use crate::stepped::{StepQueue, SteppedSpan};
+use crate::traverse::{Batched, DepthOnly, OnePixel, Solid, SpanShade, traverse};
 
 /// How many records ahead the band loops touch vertex data ([`BandInput::touch`]).
 pub(crate) const AHEAD: usize = 4;
@@ -151,8 +152,13 @@ impl<S: Shader> BandInput<'_, S> {
                         shader: self.shader,
                         tri,
                         ceiling: self.ceiling,
+                        wide: self.wide,
+                        queue: &mut batched.stepped,
                     };
-                    return traverse(t, &mut shade, target);
+                    let shaded = traverse(t, &mut shade, target);
+                    // The queue holds this triangle's data: shade it before the next.
+                    shade.flush(target.color);
+                    return shaded;
                 }
             }
             Face::Interpolated => {}
@@ -185,6 +191,7 @@ impl<S: Shader> BandInput<'_, S> {
         Batched {
             shader: self.shader,
             pending: Pending::new(self.ceiling),
+            stepped: StepQueue::new(),
         }
     }
 }

@@ -10,7 +10,7 @@
 //!
 //! What a covered pixel gets is a [`SpanShade`]: one colour ([`Solid`]), the shader's pixel
 //! stage one pixel at a time ([`OnePixel`]) or four at a time across triangles ([`Batched`]),
-//! or a stepped triangle's quadratics ([`SteppedSpan`]).
+//! or a stepped triangle's quadratics ([`crate::stepped::SteppedSpan`]).
 
 use glam::Vec3;
 use phosphor_lighting::F32x1;
@@ -20,7 +20,8 @@ use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, lanes, pixel_drawn};
 use crate::framebuffer::clamp_color_to;
 use crate::setup::RasterTri;
-use crate::shader::{MAX_QUADRATICS, Pixels, Shader, Stepped, Varyings, interpolated};
+use crate::shader::{Shader, Varyings, interpolated};
+use crate::stepped::StepQueue;
 
 /// What a traversal does at each covered pixel that passes its test.
 pub(crate) trait SpanShade {
@@ -130,6 +131,8 @@ impl<S: Shader> SpanShade for OnePixel<'_, S> {
 pub(crate) struct Batched<'s, S> {
     pub shader: &'s S,
     pub pending: Pending<usize, 4>,
+    /// The queue of stepped triangles' pixels ([`crate::stepped`]), kept with the band.
+    pub stepped: StepQueue,
 }
 
 impl<S: Shader> SpanShade for Batched<'_, S> {
@@ -151,57 +154,6 @@ impl<S: Shader> SpanShade for Batched<'_, S> {
         let shader = self.shader;
         let shade = |rows: &[Attrs; 4], count, ceiling| shade4(shader, rows, count, ceiling);
         self.pending.flush_with(shade, c);
-    }
-}
-
-/// A stepped triangle's pixels: its quadratics stepped by forward differences (value, first
-/// and second difference in `f64`), its varyings from the planes.
-pub(crate) struct SteppedSpan<'s, S: Shader> {
-    pub shader: &'s S,
-    pub tri: &'s Stepped<S::Stepped>,
-    /// The framebuffer's largest intensity.
-    pub ceiling: f32,
-}
-
-impl<S: Shader> SpanShade for SteppedSpan<'_, S> {
-    const ATTRS: usize = interpolated::<S>();
-    type Span = [[f64; 3]; MAX_QUADRATICS];
-    #[inline(always)]
-    fn span(&self, x: f64, y: f64) -> Self::Span {
-        let t = self.tri;
-        let (u, v) = (x - t.origin.0, y - t.origin.1);
-        let mut d = [[0.0; 3]; MAX_QUADRATICS];
-        for (d, q) in d.iter_mut().zip(&t.quadratics).take(t.count) {
-            *d = q.differences(u, v);
-        }
-        d
-    }
-    #[inline(always)]
-    fn pixel(
-        &mut self,
-        d: &Self::Span,
-        idx: usize,
-        (a, w): (&Attrs, f32),
-        (x, y): (i64, i64),
-        c: &mut [Vec3],
-    ) {
-        let q = d.map(|d| F32x1(d[0] as f32));
-        let at = Pixels {
-            x: F32x1(x as f32 + 0.5),
-            y: F32x1(y as f32 + 0.5),
-        };
-        let v = one_lane(a, w, lanes(interpolated::<S>()));
-        c[idx] = first(
-            self.shader.stepped_pixel(&self.tri.data, &q, &v, &at),
-            self.ceiling,
-        );
-    }
-    #[inline(always)]
-    fn step(d: &mut Self::Span) {
-        for d in d.iter_mut() {
-            d[0] += d[1];
-            d[1] += d[2];
-        }
     }
 }
 
