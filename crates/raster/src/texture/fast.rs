@@ -99,9 +99,13 @@ struct Levels<L> {
     stride: L,
 }
 
-/// Slot positions up to this are exact in `f32`: a chain of at most this many slots (an image
-/// up to about 3,500 texels square) has its addresses computed in lanes.
-const EXACT_SLOTS: usize = 1 << 24;
+/// Slot positions below this are exact in `f32` and sit in its mantissa once [`MANTISSA`] is
+/// added: a chain of at most this many slots (an image up to about 2,500 texels square) has
+/// its addresses computed in lanes.
+const EXACT_SLOTS: usize = 1 << 23;
+
+/// `2^23`, [`EXACT_SLOTS`] as an `f32`.
+const MANTISSA: f32 = 8_388_608.0;
 
 impl Texture {
     /// The levels `lo` (one index per lane, as exact small integers) name.
@@ -165,19 +169,24 @@ impl Texture {
                 (y0 + one).max_c(zero).min_c(last),
             ),
         };
-        let (mut top, mut bottom) = ([[0.0; 8]; 8], [[0.0; 8]; 8]);
         // Slot `i + 1` of a row holds texel `i` (`i >= -1`).
-        if exact {
-            let s = at.offset + i + one;
+        let (top, bottom) = if exact {
+            // Slots are integers below 2^23: adding 2^23 leaves each in the low mantissa
+            // bits, read per lane without a conversion.
+            let s = at.offset + i + one + u.splat(MANTISSA);
             let (s0, s1) = (
                 (s + j0 * at.stride).to_lanes(),
                 (s + j1 * at.stride).to_lanes(),
             );
+            let mask = EXACT_SLOTS as u32 - 1;
+            let (mut top, mut bottom) = ([[0.0; 8]; 8], [[0.0; 8]; 8]);
             for k in 0..L::N {
-                top[k] = self.chain.pair(s0[k] as usize);
-                bottom[k] = self.chain.pair(s1[k] as usize);
+                top[k] = self.chain.pair((s0[k].to_bits() & mask) as usize);
+                bottom[k] = self.chain.pair((s1[k].to_bits() & mask) as usize);
             }
+            (top, bottom)
         } else {
+            let (mut top, mut bottom) = ([[0.0; 8]; 8], [[0.0; 8]; 8]);
             let (i, j0, j1) = (i.to_lanes(), j0.to_lanes(), j1.to_lanes());
             for k in 0..L::N {
                 let l = &self.chain.levels[at.index[k]];
@@ -185,7 +194,8 @@ impl Texture {
                 top[k] = self.chain.pair(s + j0[k] as usize * l.stride());
                 bottom[k] = self.chain.pair(s + j1[k] as usize * l.stride());
             }
-        }
+            (top, bottom)
+        };
         let (t, b) = (u.columns(&top), u.columns(&bottom));
         Vec3s::new(
             blend4(&t, &b, 0, fx, fy),
@@ -206,6 +216,11 @@ impl Texture {
         let (ux, vx) = (finite(d[0]) * w, finite(d[1]) * h);
         let (uy, vy) = (finite(d[2]) * w, finite(d[3]) * h);
         let rho2 = (ux * ux + vx * vx).max_c(uy * uy + vy * vy);
+        let magnified = rho2.cmp_le(one);
+        if magnified.all() {
+            // Level 0 everywhere, no blend: what the steps below give these lanes.
+            return (zero, zero);
+        }
         // `lo` counts the powers 4^k (k >= 1) at most rho^2, up to the last level; `p` is
         // the largest of them (or 1).
         let last = self.chain.levels.len() - 1;
@@ -234,7 +249,6 @@ impl Texture {
         let series = s * series;
         let f = ((e & one) + series) * like.splat(0.5);
         let f = f.max_c(zero).min_c(one);
-        let magnified = rho2.cmp_le(one);
         let ends = lo.cmp_ge(like.splat(last as f32));
         (lo, (magnified | ends).blend(zero, f))
     }
