@@ -238,13 +238,28 @@ fn by_pixel_pass<S: Shader>(
     let shader = input.shader;
     // More than eight attributes: a loop compiled for this shader (`ByPixel::shade_wide`).
     let wide_attrs = lanes(interpolated::<S>()) > 8;
-    let shaded = if input.wide.avx2.is_some() {
+    let shaded = if let Some(avx2) = input.wide.avx2 {
         let wide = input.wide;
         let kernel = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
         if wide_attrs {
-            pass.shade_wide::<8, _>(target.color, &kernel)
+            #[cfg(target_arch = "x86_64")]
+            {
+                pass.shade_wide_avx2(avx2, shader, target.color)
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                let _ = avx2;
+                pass.shade_wide::<8, _>(target.color, &kernel)
+            }
         } else {
-            pass.shade::<8>(target.color, &kernel)
+            #[cfg(target_arch = "x86_64")]
+            {
+                pass.shade_avx2(avx2, target.color, &kernel)
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                pass.shade::<8>(target.color, &kernel)
+            }
         }
     } else {
         let kernel = |a: &[Attrs; 4], count, ceiling| shade4(shader, a, count, ceiling);
