@@ -1,7 +1,7 @@
 //! Every SIMD level this CPU runs gives the same picture, bit for bit: `phong`'s by-pixel pass
 //! and `gouraud`'s vertices at four lanes (the baseline) and at eight (AVX2), across
 //! perspective and screen-linear attributes, multisampling, culling, thread counts and image
-//! widths that leave partly filled groups.
+//! widths that leave partly filled groups; stepped triangles and textured draws too.
 
 use glam::Vec3;
 use phosphor_lighting::{Fresnel, Material, SpecularModel};
@@ -75,6 +75,84 @@ fn every_level_this_cpu_runs_draws_the_same_bits() {
                 assert!(
                     bits(&fb) == bits(&base),
                     "{level} differs from the baseline: {mode:?} {size:?} perspective {perspective} {aa:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn stepped_and_textured_draws_give_the_same_bits_at_every_level() {
+    // Stepped triangles (fast-phong's two methods, flat textured) are shaded from a queue of
+    // one triangle's pixels, and textured draws step sixteen attributes in the by-pixel loop:
+    // both in four lanes at the baseline and eight with AVX2.
+    use crate::FastPhongMethod;
+    use crate::texture::Texture;
+    let levels = levels();
+    let cam = Camera::s1();
+    // Coarse, so that fast-phong's fit (triangles of 128 px or more) is tried; fine for
+    // Taylor, which S1's point lights defeat on large triangles.
+    let (coarse, fine) = (uv_sphere(0.8, 12, 8), uv_sphere(0.8, 48, 24));
+    let lights = s1_lights();
+    let material = Material::s1();
+    let texels = (0..64 * 64)
+        .map(|k: u32| {
+            let (i, j) = (k % 64, k / 64);
+            Vec3::new(
+                i as f32 / 63.0,
+                j as f32 / 63.0,
+                ((i / 8 + j / 8) % 2) as f32,
+            )
+        })
+        .collect();
+    let texture = Texture::new(64, 64, texels).unwrap();
+    let mut cases = Vec::new();
+    for method in FastPhongMethod::ALL {
+        cases.push((ShadingMode::FastPhong, method, false));
+    }
+    for mode in [ShadingMode::Flat, ShadingMode::Gouraud, ShadingMode::Phong] {
+        cases.push((mode, FastPhongMethod::Fit, true));
+    }
+    for (mode, method, textured) in cases {
+        let mesh = if method == FastPhongMethod::Taylor {
+            &fine
+        } else {
+            &coarse
+        };
+        let mut draw = item(mesh, &material, &lights, mode);
+        if textured {
+            draw.texture = Some(&texture);
+        }
+        let draws = [draw];
+        for (size, aa, threads) in [
+            ((160, 100), Antialias::Off, 1),
+            ((128, 96), Antialias::Msaa4, 3),
+        ] {
+            let render = |simd| {
+                let opts = RenderOptions {
+                    threads,
+                    antialias: aa,
+                    fast_phong: method,
+                    simd,
+                    ..RenderOptions::default()
+                };
+                draw_image(size.0, size.1, &cam, &draws, &opts)
+            };
+            let (base, base_stats) = render(SimdLevel::Baseline);
+            assert!(base_stats.pixels_shaded > 500, "{base_stats:?}");
+            if mode == ShadingMode::FastPhong {
+                // Some triangles are stepped, not all fall back to phong.
+                assert!(
+                    base_stats.fallbacks < base_stats.triangles_drawn,
+                    "{method:?} {base_stats:?}"
+                );
+            }
+            for &level in &levels[1..] {
+                let (fb, stats) = render(level);
+                assert_eq!(stats.pixels_shaded, base_stats.pixels_shaded);
+                assert!(
+                    bits(&fb) == bits(&base),
+                    "{level} differs from the baseline: {mode:?} {method:?} textured {textured} {aa:?}"
                 );
             }
         }
