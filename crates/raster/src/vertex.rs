@@ -201,6 +201,27 @@ fn transform(mesh: &MeshView, model: Mat4, vp: Mat4, threads: usize) -> Vec<(Vec
         if nm.is_finite() { nm } else { m3 }
     };
     let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
+    if mesh.uvs.is_none() && mesh.tangents.is_none() && mesh.colors.is_none() {
+        // Positions and normals alone (most meshes): the same values, with no per-vertex
+        // tests for the arrays that are absent.
+        return map_indices(threads, mesh.positions.len(), 4096, |i| {
+            let world = model.transform_point3(mesh.positions[i]);
+            let normal = mesh
+                .normals
+                .get(i)
+                .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
+            (
+                vp * world.extend(1.0),
+                VertexIn {
+                    world,
+                    normal,
+                    uv: Vec2::ZERO,
+                    tangent: Vec4::ZERO,
+                    color: Vec3::ONE,
+                },
+            )
+        });
+    }
     map_indices(threads, mesh.positions.len(), 4096, |i| {
         let world = model.transform_point3(mesh.positions[i]);
         let normal = mesh
