@@ -201,56 +201,39 @@ fn transform(mesh: &MeshView, model: Mat4, vp: Mat4, threads: usize) -> Vec<(Vec
         if nm.is_finite() { nm } else { m3 }
     };
     let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
-    if mesh.uvs.is_none() && mesh.tangents.is_none() && mesh.colors.is_none() {
-        // Positions and normals alone (most meshes): the same values, with no per-vertex
-        // tests for the arrays that are absent.
-        return map_indices(threads, mesh.positions.len(), 4096, |i| {
-            let world = model.transform_point3(mesh.positions[i]);
-            let normal = mesh
-                .normals
-                .get(i)
-                .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
-            (
-                vp * world.extend(1.0),
-                VertexIn {
-                    world,
-                    normal,
-                    uv: Vec2::ZERO,
-                    tangent: Vec4::ZERO,
-                    color: Vec3::ONE,
-                },
-            )
-        });
-    }
-    map_indices(threads, mesh.positions.len(), 4096, |i| {
+    // Position and normal, with the other inputs at their defaults.
+    let surface = |i: usize| {
         let world = model.transform_point3(mesh.positions[i]);
         let normal = mesh
             .normals
             .get(i)
             .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
-        let uv = mesh
-            .uvs
-            .and_then(|u| u.get(i).copied())
-            .unwrap_or(Vec2::ZERO);
-        let tangent = mesh
-            .tangents
-            .and_then(|t| t.get(i).copied())
-            .map_or(Vec4::ZERO, |t| {
-                (m3 * t.truncate()).normalize_or_zero().extend(t.w * flip)
-            });
-        let color = mesh
-            .colors
-            .and_then(|c| c.get(i).copied())
-            .unwrap_or(Vec3::ONE);
         (
             vp * world.extend(1.0),
             VertexIn {
                 world,
                 normal,
-                uv,
-                tangent,
-                color,
+                uv: Vec2::ZERO,
+                tangent: Vec4::ZERO,
+                color: Vec3::ONE,
             },
         )
+    };
+    if mesh.uvs.is_none() && mesh.tangents.is_none() && mesh.colors.is_none() {
+        // Most meshes: no per-vertex tests for the arrays that are absent.
+        return map_indices(threads, mesh.positions.len(), 4096, surface);
+    }
+    map_indices(threads, mesh.positions.len(), 4096, |i| {
+        let (clip, mut v) = surface(i);
+        if let Some(uv) = mesh.uvs.and_then(|u| u.get(i).copied()) {
+            v.uv = uv;
+        }
+        if let Some(t) = mesh.tangents.and_then(|t| t.get(i).copied()) {
+            v.tangent = (m3 * t.truncate()).normalize_or_zero().extend(t.w * flip);
+        }
+        if let Some(c) = mesh.colors.and_then(|c| c.get(i).copied()) {
+            v.color = c;
+        }
+        (clip, v)
     })
 }
