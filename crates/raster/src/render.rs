@@ -239,7 +239,7 @@ pub fn render_fill_only(
     let mut frame = Frame::new(fb, camera, &opts);
     let fill = Fill { color: Vec3::ONE };
     for d in draws {
-        frame.draw(&d.mesh, d.model, &fill, d.cull_backfaces);
+        frame.draw(&positions_only(&d.mesh), d.model, &fill, d.cull_backfaces);
     }
     frame.finish()
 }
@@ -285,12 +285,18 @@ pub(crate) fn run_depth(
     let fill = Fill { color: Vec3::ZERO };
     run(
         fb,
-        (vp, mesh, model),
+        (vp, &positions_only(mesh), model),
         &fill,
         opts,
         stats,
         (1, false, false, true),
     );
+}
+
+/// `mesh` with its positions and triangles alone, for a constant-colour draw that reads
+/// nothing else: the vertex stage then transforms no normals.
+fn positions_only<'a>(mesh: &MeshView<'a>) -> MeshView<'a> {
+    MeshView::new(mesh.positions, &[], mesh.indices)
 }
 
 /// Runs `shader` over one draw through the three stages: vertex, bin (both in parallel over

@@ -220,6 +220,20 @@ fn transform(mesh: &MeshView, model: Mat4, vp: Mat4, threads: usize) -> Vec<(Vec
         )
     };
     if mesh.uvs.is_none() && mesh.tangents.is_none() && mesh.colors.is_none() {
+        if mesh.normals.is_empty() {
+            // Coverage and depth alone (fill-only, shadow casters): positions only.
+            return map_indices(threads, mesh.positions.len(), 4096, |i| {
+                let world = model.transform_point3(mesh.positions[i]);
+                let v = VertexIn {
+                    world,
+                    normal: Vec3::ZERO,
+                    uv: Vec2::ZERO,
+                    tangent: Vec4::ZERO,
+                    color: Vec3::ONE,
+                };
+                (vp * world.extend(1.0), v)
+            });
+        }
         // Most meshes: no per-vertex tests for the arrays that are absent.
         return map_indices(threads, mesh.positions.len(), 4096, surface);
     }
