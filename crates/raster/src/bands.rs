@@ -136,6 +136,27 @@ fn draw_single<S: Shader>(
     target: &mut BandTarget,
     dirty: &mut [(u32, u32)],
 ) -> u64 {
+    #[cfg(target_arch = "x86_64")]
+    if let (Face::Constant, Some(avx2)) = (S::FACE, input.wide.avx2) {
+        return avx2.run(ConstantRun {
+            input,
+            b,
+            target,
+            dirty,
+        });
+    }
+    single_loop::<S, false>(input, b, target, dirty)
+}
+
+/// [`draw_single`]'s loop over the records; `CONSTANT`: a constant-colour shader's, with its
+/// traversal inlined.
+#[inline(always)]
+fn single_loop<S: Shader, const CONSTANT: bool>(
+    input: &BandInput<S>,
+    b: usize,
+    target: &mut BandTarget,
+    dirty: &mut [(u32, u32)],
+) -> u64 {
     let (n, width, y0) = (S::VARYINGS, target.width, target.y0);
     let n = if S::FACE == Face::Constant { 0 } else { n };
     let mut t = RasterTri::empty();
@@ -147,12 +168,35 @@ fn draw_single<S: Shader>(
             if input.setup(&mut t, c, r, n) {
                 // A shader writes only inside the triangle's pixel box.
                 mark_dirty(dirty, y0, (t.y0, t.y1), (t.x0, t.x1), width);
-                shaded += input.draw(&t, (c, r), target, &mut batched);
+                shaded += if CONSTANT {
+                    input.draw_constant(&t, (c, r), target)
+                } else {
+                    input.draw(&t, (c, r), target, &mut batched)
+                };
             }
         }
     }
     std::hint::black_box(sink);
     shaded
+}
+
+/// [`draw_single`] of a constant-colour shader (flat faces, fill-only, shadow casters) as
+/// one AVX2 function: set-up, coverage and depth compiled with the wider instruction set.
+#[cfg(target_arch = "x86_64")]
+struct ConstantRun<'p, 'a, 't, S: Shader> {
+    input: &'p BandInput<'a, S>,
+    b: usize,
+    target: &'p mut BandTarget<'t>,
+    dirty: &'p mut [(u32, u32)],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<S: Shader> phosphor_lighting::Avx2Task for ConstantRun<'_, '_, '_, S> {
+    type Output = u64;
+    #[inline(always)]
+    fn run(self, _: phosphor_lighting::Avx2) -> u64 {
+        single_loop::<S, true>(self.input, self.b, self.target, self.dirty)
+    }
 }
 
 /// Band `b` in two passes: the depth pass, then the by-pixel pass and/or the visible pass

@@ -11,7 +11,7 @@ use crate::incremental::{IncrementalTri, traverse_incremental};
 use crate::setup::{RasterTri, ScreenPos};
 use crate::shader::{Face, Shader};
 use crate::stepped::{StepQueue, SteppedSpan};
-use crate::traverse::{Batched, DepthOnly, OnePixel, Solid, SpanShade, traverse};
+use crate::traverse::{Batched, DepthOnly, OnePixel, Solid, SpanShade, traverse, traverse_inline};
 
 /// How many records ahead the band loops touch vertex data ([`BandInput::touch`]).
 pub(crate) const AHEAD: usize = 4;
@@ -184,6 +184,22 @@ impl<S: Shader> BandInput<'_, S> {
             batched.flush(target.color);
         }
         shaded
+    }
+
+    /// [`BandInput::draw`] of a constant-colour shader's record, the traversal inlined into
+    /// the caller (the band loop compiled for AVX2).
+    #[inline(always)]
+    pub(crate) fn draw_constant(
+        &self,
+        t: &RasterTri,
+        (c, r): (&Binned<S::Stepped>, &TriRec),
+        target: &mut BandTarget,
+    ) -> u64 {
+        if self.depth_only {
+            return traverse_inline(t, &mut DepthOnly, target);
+        }
+        let color = c.colors.get(r.tri as usize).copied().unwrap_or(Vec3::ZERO);
+        traverse_inline(t, &mut Solid::of(color, self.ceiling), target)
     }
 
     /// The batching state of a band.

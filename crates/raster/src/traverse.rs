@@ -82,6 +82,7 @@ impl SpanShade for DepthOnly {
 
 impl Solid {
     /// The colour `c`, clamped to `[0, ceiling]` as every colour written is.
+    #[inline]
     #[must_use]
     pub fn of(c: Vec3, ceiling: f32) -> Solid {
         debug_assert!(c.is_finite(), "non-finite colour {c}");
@@ -160,6 +161,17 @@ impl<S: Shader> SpanShade for Batched<'_, S> {
 /// Draws the part of triangle `t` inside the band, shading with `shade`; returns the number
 /// of pixels shaded.
 pub(crate) fn traverse<T: SpanShade>(t: &RasterTri, shade: &mut T, target: &mut BandTarget) -> u64 {
+    traverse_inline(t, shade, target)
+}
+
+/// [`traverse`] inlined into its caller: for a caller compiled for AVX2, whose callees run
+/// at the baseline unless inlined.
+#[inline(always)]
+pub(crate) fn traverse_inline<T: SpanShade>(
+    t: &RasterTri,
+    shade: &mut T,
+    target: &mut BandTarget,
+) -> u64 {
     if t.n < T::ATTRS {
         // Set up with fewer attributes than the shade reads: the missing ones are zero. (The
         // traversal steps the lanes whole, see `lanes`, whatever the plane holds past its
@@ -181,6 +193,7 @@ pub(crate) fn traverse<T: SpanShade>(t: &RasterTri, shade: &mut T, target: &mut 
     }
 }
 
+#[inline(always)]
 fn traverse_impl<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     t: &RasterTri,
     shade: &mut T,
