@@ -328,6 +328,58 @@ fn depth_pass<S: Shader>(
     extents: &mut [(u32, u32)],
     epoch: u64,
 ) -> usize {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx2) = input.wide.avx2 {
+        return avx2.run(DepthRun {
+            input,
+            b,
+            target,
+            ids,
+            extents,
+            epoch,
+        });
+    }
+    depth_loop(input, b, target, ids, extents, epoch)
+}
+
+/// [`depth_pass`] as one AVX2 function.
+#[cfg(target_arch = "x86_64")]
+struct DepthRun<'p, 'a, 't, S: Shader> {
+    input: &'p BandInput<'a, S>,
+    b: usize,
+    target: &'p mut BandTarget<'t>,
+    ids: &'p mut [u64],
+    extents: &'p mut [(u32, u32)],
+    epoch: u64,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<S: Shader> phosphor_lighting::Avx2Task for DepthRun<'_, '_, '_, S> {
+    type Output = usize;
+    #[inline(always)]
+    fn run(self, _: phosphor_lighting::Avx2) -> usize {
+        let Self {
+            input,
+            b,
+            target,
+            ids,
+            extents,
+            epoch,
+        } = self;
+        depth_loop(input, b, target, ids, extents, epoch)
+    }
+}
+
+/// [`depth_pass`]'s loop over the records.
+#[inline(always)]
+fn depth_loop<S: Shader>(
+    input: &BandInput<S>,
+    b: usize,
+    target: &mut BandTarget,
+    ids: &mut [u64],
+    extents: &mut [(u32, u32)],
+    epoch: u64,
+) -> usize {
     let mut t = RasterTri::empty();
     let (mut seq, mut sink) = (epoch, 0);
     for (c, recs) in input.records(b) {

@@ -213,10 +213,11 @@ fn row_span(e: [i64; 3], step: [i64; 3], lo: i64, hi: i64) -> (i64, i64) {
     (lo + ks, lo + ke)
 }
 
-/// Draws the part of triangle `t` inside the band with kernel `K`; returns the number of
 /// The depth pass: depth test and write, and `ids[pixel] = id` where this triangle is now the
 /// nearest. `extents[row]` (rows of the band) is widened to the columns `[lo, hi)` written.
-/// Returns the pixels written.
+/// Returns the pixels written. Inlined into the depth pass's loop, which runs as AVX2 code
+/// where the CPU has it.
+#[inline(always)]
 pub fn depth_only(
     t: &RasterTri,
     target: &mut BandTarget,
