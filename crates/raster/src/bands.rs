@@ -83,11 +83,7 @@ pub(crate) fn draw_bands<S: Shader>(
     if clear.is_some() {
         fb.clean = clear;
     }
-    let one_pass = match S::FACE {
-        Face::Constant => true,
-        Face::Interpolated => !S::SHADE_ONCE,
-        Face::Stepped => false,
-    };
+    let one_pass = one_pass::<S>();
     let (color, depth, dirty) = (&mut fb.color, &mut fb.depth, &mut fb.dirty);
     type Rows<'a> = ((&'a mut [Vec3], &'a mut [f32]), &'a mut [(u32, u32)]);
     let run = |(b, ((color, depth), dirty)): (usize, Rows)| -> u64 {
@@ -128,6 +124,16 @@ pub(crate) fn draw_bands<S: Shader>(
     }
 }
 
+/// Whether `S` draws every band in one pass: a constant colour, or a pixel stage cheap
+/// enough to run for every pixel drawn.
+const fn one_pass<S: Shader>() -> bool {
+    match S::FACE {
+        Face::Constant => true,
+        Face::Interpolated => !S::SHADE_ONCE,
+        Face::Stepped => false,
+    }
+}
+
 /// Band `b` in one pass: each triangle depth-tested, shaded and written in turn. Widens the
 /// band's `dirty` columns by every triangle's box. Returns the pixels shaded.
 fn draw_single<S: Shader>(
@@ -136,9 +142,10 @@ fn draw_single<S: Shader>(
     target: &mut BandTarget,
     dirty: &mut [(u32, u32)],
 ) -> u64 {
+    // Two-pass shaders come here only for bands of one record: not worth a second copy.
     #[cfg(target_arch = "x86_64")]
-    if let (Face::Constant, Some(avx2)) = (S::FACE, input.wide.avx2) {
-        return avx2.run(ConstantRun {
+    if let (true, Some(avx2)) = (one_pass::<S>(), input.wide.avx2) {
+        return avx2.run(SingleRun {
             input,
             b,
             target,
@@ -148,10 +155,10 @@ fn draw_single<S: Shader>(
     single_loop::<S, false>(input, b, target, dirty)
 }
 
-/// [`draw_single`]'s loop over the records; `CONSTANT`: a constant-colour shader's, with its
-/// traversal inlined.
+/// [`draw_single`]'s loop over the records; `INLINE`: with the traversal inlined
+/// ([`BandInput::draw_inline`]).
 #[inline(always)]
-fn single_loop<S: Shader, const CONSTANT: bool>(
+fn single_loop<S: Shader, const INLINE: bool>(
     input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
@@ -168,8 +175,8 @@ fn single_loop<S: Shader, const CONSTANT: bool>(
             if input.setup(&mut t, c, r, n) {
                 // A shader writes only inside the triangle's pixel box.
                 mark_dirty(dirty, y0, (t.y0, t.y1), (t.x0, t.x1), width);
-                shaded += if CONSTANT {
-                    input.draw_constant(&t, (c, r), target)
+                shaded += if INLINE {
+                    input.draw_inline(&t, (c, r), target, &mut batched)
                 } else {
                     input.draw(&t, (c, r), target, &mut batched)
                 };
@@ -180,10 +187,10 @@ fn single_loop<S: Shader, const CONSTANT: bool>(
     shaded
 }
 
-/// [`draw_single`] of a constant-colour shader (flat faces, fill-only, shadow casters) as
-/// one AVX2 function: set-up, coverage and depth compiled with the wider instruction set.
+/// [`draw_single`] as one AVX2 function (flat faces, fill-only, shadow casters, Gouraud):
+/// set-up, coverage, depth and the pixel stage compiled with the wider instruction set.
 #[cfg(target_arch = "x86_64")]
-struct ConstantRun<'p, 'a, 't, S: Shader> {
+struct SingleRun<'p, 'a, 't, S: Shader> {
     input: &'p BandInput<'a, S>,
     b: usize,
     target: &'p mut BandTarget<'t>,
@@ -191,7 +198,7 @@ struct ConstantRun<'p, 'a, 't, S: Shader> {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<S: Shader> phosphor_lighting::Avx2Task for ConstantRun<'_, '_, '_, S> {
+impl<S: Shader> phosphor_lighting::Avx2Task for SingleRun<'_, '_, '_, S> {
     type Output = u64;
     #[inline(always)]
     fn run(self, _: phosphor_lighting::Avx2) -> u64 {

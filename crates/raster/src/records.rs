@@ -186,20 +186,28 @@ impl<S: Shader> BandInput<'_, S> {
         shaded
     }
 
-    /// [`BandInput::draw`] of a constant-colour shader's record, the traversal inlined into
-    /// the caller (the band loop compiled for AVX2).
+    /// [`BandInput::draw`] in one pass with the traversal inlined into the caller (the band
+    /// loop compiled for AVX2), for a constant colour or a pixel stage run per pixel drawn;
+    /// anything else (the incremental walk) goes through [`BandInput::draw`].
     #[inline(always)]
-    pub(crate) fn draw_constant(
+    pub(crate) fn draw_inline(
         &self,
         t: &RasterTri,
         (c, r): (&Binned<S::Stepped>, &TriRec),
         target: &mut BandTarget,
+        batched: &mut Batched<S>,
     ) -> u64 {
-        if self.depth_only {
-            return traverse_inline(t, &mut DepthOnly, target);
+        match S::FACE {
+            Face::Constant if self.depth_only => traverse_inline(t, &mut DepthOnly, target),
+            Face::Constant => {
+                let color = c.colors.get(r.tri as usize).copied().unwrap_or(Vec3::ZERO);
+                traverse_inline(t, &mut Solid::of(color, self.ceiling), target)
+            }
+            Face::Interpolated if !self.incremental && !S::SHADE_ONCE => {
+                traverse_inline(t, &mut OnePixel(self.shader, self.ceiling), target)
+            }
+            _ => self.draw(t, (c, r), target, batched),
         }
-        let color = c.colors.get(r.tri as usize).copied().unwrap_or(Vec3::ZERO);
-        traverse_inline(t, &mut Solid::of(color, self.ceiling), target)
     }
 
     /// The batching state of a band.
