@@ -70,6 +70,7 @@ pub mod error_bound;
 pub mod file;
 pub mod hierarchy;
 pub mod plan;
+mod planned;
 pub mod preset;
 pub mod render;
 pub mod shadows;

@@ -30,7 +30,7 @@ use crate::Scene;
 use crate::components::{
     CastsShadows, MeshRef, MeshSource, Name, Primitive, SceneMesh, ShadowRole, Transform,
 };
-use crate::plan::{FrameOptions, PlannedObject};
+use crate::planned::{FrameOptions, PlannedObject};
 
 /// Smallest side the footprint rule picks.
 pub const MIN_AUTO_SIZE: u32 = 256;
@@ -66,7 +66,7 @@ impl ShadowCaster {
 /// A map the frame makes.
 #[derive(Debug, Clone)]
 pub struct PlannedShadow {
-    /// The light (index into [`crate::plan::FramePlan::light_names`]).
+    /// The light (index into the plan's `light_names`).
     pub light: usize,
     /// The light's view, fitted.
     pub view: LightView,
@@ -74,9 +74,9 @@ pub struct PlannedShadow {
     pub face: Option<CubeFace>,
     /// Side in texels.
     pub size: u32,
-    /// Indices into [`crate::plan::FramePlan::casters`] of the casters drawn into it.
+    /// Indices into the plan's `casters` of the casters drawn into it.
     pub casters: Vec<usize>,
-    /// Indices into [`crate::plan::FramePlan::objects`] of the receivers that look it up.
+    /// Indices into the plan's `objects` of the receivers that look it up.
     pub receivers: Vec<usize>,
     /// How the size was chosen.
     pub size_reason: String,

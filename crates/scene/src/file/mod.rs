@@ -5,5 +5,6 @@ mod camera;
 pub mod gltf_nodes;
 pub mod load;
 mod motion;
+mod number;
 mod read;
 pub mod save;

@@ -5,8 +5,8 @@ use glam::{Quat, Vec3};
 use hecs::Entity;
 use toml::{Table, Value};
 
+use super::number::shortest;
 use super::read::{Fields, choose};
-use super::save::shortest;
 use crate::Scene;
 use crate::animation::{Bob, Interpolation, Orbit, RotationKey, Spin, Track, Tracks};
 use crate::components::{Name, Transform};

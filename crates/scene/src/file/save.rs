@@ -10,6 +10,7 @@ use phosphor_mesh::{NormalSource, Weighting};
 use phosphor_raster::{Camera, Encoding, ProceduralBump, Projection};
 use toml::{Table, Value};
 
+use super::number::shortest;
 use crate::components::{
     BumpSource, GltfNode, GltfRoot, MaterialDef, MaterialName, MeshRef, MeshSource, Name,
     Primitive, Shading, Transform,
@@ -21,14 +22,6 @@ use crate::{CullChoice, RenderSettings, Scene};
 
 fn v3(v: Vec3) -> Value {
     Value::Array(v.to_array().iter().map(|&x| f(x)).collect())
-}
-
-/// `x` as the shortest decimal that reads back as the same `f32` (`0.2`, not the
-/// `0.20000000298023224` that widening to `f64` first would write). Rust's `Display` for
-/// floats is that shortest round-tripping form, and it parses as an `f64` that narrows back
-/// to `x` exactly; `inf` and `nan` pass through as TOML's own.
-pub(crate) fn shortest(x: f32) -> f64 {
-    x.to_string().parse::<f64>().unwrap_or(f64::from(x))
 }
 
 fn f(x: f32) -> Value {
