@@ -7,16 +7,11 @@ use glam::{Mat4, Vec3};
 use phosphor_lighting::Effects;
 
 use crate::antialias::{Antialias, resolve};
-use crate::bands::draw_bands;
-use crate::batch::Wide;
-use crate::bin::{BinInput, bin_draw};
 use crate::framebuffer::{Framebuffer, RasterError};
-use crate::records::BandInput;
-use crate::shader::{Face, Shader};
+use crate::pipeline::{positions_only, run};
+use crate::shader::Shader;
 use crate::shaders::fill::Fill;
-use crate::vertex::vertex_stage;
-use crate::viewport::Viewport;
-use crate::{Camera, DrawItem, Interpolation, MeshView, RenderOptions, RenderStats, ShadingMode};
+use crate::{Camera, DrawItem, MeshView, RenderOptions, RenderStats, ShadingMode};
 
 /// One frame being drawn into a framebuffer: draws of any [`Shader`], in submission order,
 /// then [`Frame::finish`]. The framebuffer is cleared to the options' background first (when
@@ -270,76 +265,4 @@ pub fn coverage_counts(
         );
     }
     Ok(fb.color.iter().map(|c| c.x as u32).collect())
-}
-
-/// Draws `mesh` placed by `model` into `fb` seen through `vp`, every face, for its depth
-/// alone: a shadow map's casters.
-pub(crate) fn run_depth(
-    fb: &mut Framebuffer,
-    vp: Mat4,
-    mesh: &MeshView,
-    model: Mat4,
-    opts: &RenderOptions,
-    stats: &mut RenderStats,
-) {
-    let fill = Fill { color: Vec3::ZERO };
-    run(
-        fb,
-        (vp, &positions_only(mesh), model),
-        &fill,
-        opts,
-        stats,
-        (1, false, false, true),
-    );
-}
-
-/// `mesh` with its positions and triangles alone, for a constant-colour draw that reads
-/// nothing else: the vertex stage then transforms no normals.
-fn positions_only<'a>(mesh: &MeshView<'a>) -> MeshView<'a> {
-    MeshView::new(mesh.positions, &[], mesh.indices)
-}
-
-/// Runs `shader` over one draw through the three stages: vertex, bin (both in parallel over
-/// the mesh, in order) and bands. `block`: samples per pixel side of a multisampled image (1:
-/// none); `count`: the coverage-count hook; `depth_only`: a constant-colour shader writes
-/// depth alone (a shadow map), and the colour is neither written nor cleared.
-fn run<S: Shader>(
-    fb: &mut Framebuffer,
-    (vp, mesh, model): (Mat4, &MeshView, Mat4),
-    shader: &S,
-    opts: &RenderOptions,
-    stats: &mut RenderStats,
-    (block, count, cull, depth_only): (u32, bool, bool, bool),
-) {
-    let view = Viewport::new(fb.width(), fb.height(), opts.perspective_correct, block);
-    let wide = Wide {
-        avx2: opts.simd.token(),
-    };
-    let threads = opts.threads;
-    let verts = vertex_stage(mesh, model, vp, shader, &view, (threads, wide));
-    let bin = BinInput {
-        shader,
-        indices: mesh.indices,
-        verts: &verts,
-        view: &view,
-        cull,
-        wide,
-    };
-    let binned = bin_draw(&bin, threads);
-    stats.triangles_in += mesh.indices.len() as u64;
-    stats.triangles_drawn += binned.drawn;
-    stats.fallbacks += binned.fallbacks;
-    let input = BandInput {
-        shader,
-        pos: &verts.pos,
-        attrs: &verts.attrs,
-        chunks: &binned.chunks,
-        perspective: view.perspective,
-        incremental: opts.interpolation == Interpolation::Incremental
-            && S::FACE == Face::Interpolated,
-        wide,
-        ceiling: fb.ceiling,
-        depth_only: depth_only && S::FACE == Face::Constant,
-    };
-    stats.pixels_shaded += draw_bands(fb, &input, threads, count, block);
 }

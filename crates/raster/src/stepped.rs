@@ -12,7 +12,7 @@ use crate::batch::{Wide, clamped_colors, varyings_of_rows};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::lanes;
 use crate::shader::{MAX_QUADRATICS, Pixels, Shader, Stepped, interpolated};
-use crate::traverse::SpanShade;
+use crate::span::SpanShade;
 
 /// Up to eight pixels of one stepped triangle waiting for its pixel stage; a band keeps one
 /// and reuses it from triangle to triangle.

@@ -21,34 +21,8 @@ use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, lanes, pixe
 use crate::framebuffer::clamp_color_to;
 use crate::setup::RasterTri;
 use crate::shader::{Shader, Varyings, interpolated};
+pub(crate) use crate::span::SpanShade;
 use crate::stepped::StepQueue;
-
-/// What a traversal does at each covered pixel that passes its test.
-pub(crate) trait SpanShade {
-    /// Attributes read (a prefix of [`Attrs`]).
-    const ATTRS: usize;
-    /// Per-span state.
-    type Span;
-    /// State at the first pixel of a span whose centre is `(x, y)` in pixels.
-    fn span(&self, x: f64, y: f64) -> Self::Span;
-    /// Shades pixel `idx` of the band, at column `x` of row `y`, whose attributes are
-    /// `attrs` times `w` (the perspective divide), into `color`.
-    fn pixel(
-        &mut self,
-        span: &Self::Span,
-        idx: usize,
-        attrs: (&Attrs, f32),
-        at: (i64, i64),
-        color: &mut [Vec3],
-    );
-    /// Moves the span state one pixel to the right.
-    fn step(span: &mut Self::Span);
-    /// Shades what is still waiting (batched kernels), after the triangle or the band.
-    #[inline(always)]
-    fn flush(&mut self, color: &mut [Vec3]) {
-        let _ = color;
-    }
-}
 
 /// One colour for every pixel, clamped once.
 pub(crate) struct Solid(pub Vec3);

@@ -25,7 +25,7 @@ impl<const FX: u32> Shader for Flat<'_, FX> {
     }
     #[inline(always)]
     fn constant<L: Lanes>(&self, t: &TriangleLanes<L>) -> Vec3s<L> {
-        let (centroid, n) = facet(t);
+        let (centroid, n) = super::surface::facet(t);
         // Bit for bit the scalar model in every lane.
         shade_lanes::<FX, L>(self.lit.set, &self.lit.mat, centroid, n, self.lit.eye)
     }
@@ -33,24 +33,6 @@ impl<const FX: u32> Shader for Flat<'_, FX> {
     fn pixel<L: Lanes>(&self, v: &Varyings<L>) -> Vec3s<L> {
         Vec3s::broadcast(v[0], Vec3::ZERO)
     }
-}
-
-/// The facet of each lane's triangle: its centroid and face normal, as the scalar
-/// `(a + b + c) / 3` and `safe_normalize((b - a) x (c - a))` compute them (counter-clockwise
-/// is front, so the normal points outwards).
-#[inline(always)]
-pub(crate) fn facet<L: Lanes>(t: &TriangleLanes<L>) -> (Vec3s<L>, Vec3s<L>) {
-    let [a, b, c] = t.corners.map(|c| c.position);
-    let like = a.x;
-    let centroid = Vec3s::new(
-        (a.x + b.x + c.x) / like.splat(3.0),
-        (a.y + b.y + c.y) / like.splat(3.0),
-        (a.z + b.z + c.z) / like.splat(3.0),
-    );
-    let n = (b - a)
-        .cross(c - a)
-        .safe_normalize(Vec3s::broadcast(like, Vec3::ZERO));
-    (centroid, n)
 }
 
 /// Draws `d` flat into `frame`, specialized for its effects.

@@ -24,6 +24,7 @@ pub mod flat;
 pub mod gouraud;
 pub mod phong;
 pub mod reference;
+mod surface;
 pub mod taylor;
 pub mod tinted;
 

@@ -68,7 +68,7 @@ impl<const FX: u32> Shader for FlatColored<'_, FX> {
     }
     #[inline(always)]
     fn constant<L: Lanes>(&self, t: &TriangleLanes<L>) -> Vec3s<L> {
-        let (centroid, n) = super::flat::facet(t);
+        let (centroid, n) = super::surface::facet(t);
         let third = centroid.x.splat(1.0 / 3.0);
         let scale = |v: Vec3s<L>| Vec3s::new(v.x * third, v.y * third, v.z * third);
         let [ca, cb, cc] = t.corners.map(|c| c.color);
@@ -268,7 +268,7 @@ impl<const FX: u32, const COLOR: bool, const BUMP: bool> Shader
     type Stepped = ();
     #[inline(always)]
     fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L> {
-        let mut out = super::phong::surface_varyings(v, true);
+        let mut out = super::surface::surface_varyings(v, true);
         if COLOR {
             put_vec3(&mut out, Self::COLOR_AT, v.color);
         }
@@ -278,7 +278,7 @@ impl<const FX: u32, const COLOR: bool, const BUMP: bool> Shader
     fn pixel<L: Lanes>(&self, v: &Varyings<L>) -> Vec3s<L> {
         let (p, mut n) = (vec3_at(v, 0), vec3_at(v, 3));
         if let (true, Some(map)) = (BUMP, self.bump) {
-            n = super::phong::perturbed(map, n, v);
+            n = super::surface::perturbed(map, n, v);
         }
         let like = v[0];
         let d = if Self::GRADIENTS.is_some() {

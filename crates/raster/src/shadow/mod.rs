@@ -267,7 +267,7 @@ impl ShadowMap {
         };
         let mut stats = RenderStats::default();
         for c in casters {
-            crate::render::run_depth(&mut fb, vp, &c.mesh, c.model, &opts, &mut stats);
+            crate::pipeline::run_depth(&mut fb, vp, &c.mesh, c.model, &opts, &mut stats);
         }
         let (n, f) = (light.near, light.far);
         let perspective = matches!(light.projection, Projection::Perspective { .. });

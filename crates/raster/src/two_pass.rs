@@ -1,0 +1,363 @@
+//! A band in two passes, for shaders whose pixel stage costs more than a depth test: a depth
+//! pass ([`depth_pass`]) that leaves the nearest triangle's id per pixel, then the
+//! interpolated triangles shaded from the ids ([`by_pixel_pass`]) and the stepped ones (and,
+//! with the incremental scan line, every one) traversed again over the pixels they own
+//! ([`visible_pass`]). [`crate::bands`] picks this or its one pass per shader.
+
+use std::cell::RefCell;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::batch::shade4;
+use crate::bin::{Binned, TriRec};
+use crate::bypixel::ByPixel;
+use crate::clip::Attrs;
+use crate::coverage::{BandTarget, Pass, depth_only, lanes};
+use crate::records::{AHEAD, BandInput};
+use crate::setup::RasterTri;
+use crate::shader::{Face, Shader, interpolated};
+use crate::traverse::{Planes, SpanShade};
+
+/// A thread's buffers for two-pass bands, reused from band to band.
+struct Scratch {
+    /// The nearest triangle's id per band pixel.
+    ids: Vec<u64>,
+    /// Per record of the band: whether it is the nearest anywhere after the depth pass (only
+    /// such records are visible).
+    owns: Vec<bool>,
+    /// Per row of the band: the columns the depth pass wrote.
+    extents: Vec<(u32, u32)>,
+    /// Per record: its index in `planes` (by-pixel shading).
+    slot: Vec<u32>,
+    /// Attribute planes of the records that were nearest somewhere.
+    planes: Vec<Planes>,
+}
+
+/// Ids of the depth pass: a fresh epoch per band job in the high bits, so ids left in a
+/// thread's scratch by earlier jobs never match.
+static EPOCH: AtomicU64 = AtomicU64::new(1);
+
+thread_local! {
+    /// Per-thread scratch of two-pass bands.
+    static SCRATCH: RefCell<Scratch> = const {
+        RefCell::new(Scratch {
+            ids: Vec::new(),
+            owns: Vec::new(),
+            extents: Vec::new(),
+            slot: Vec::new(),
+            planes: Vec::new(),
+        })
+    };
+}
+
+/// Band `b` in two passes: the depth pass, then the by-pixel pass and/or the visible pass
+/// over the triangles that own a pixel, with this thread's scratch. Widens the band's `dirty`
+/// columns by what the depth pass wrote. Returns the pixels shaded.
+pub(crate) fn draw_two_pass<S: Shader>(
+    input: &BandInput<S>,
+    b: usize,
+    target: BandTarget,
+    dirty: &mut [(u32, u32)],
+    block: u32,
+) -> u64 {
+    SCRATCH.with(|scratch| {
+        let scratch = &mut *scratch.borrow_mut();
+        two_pass(input, b, target, dirty, scratch, block)
+    })
+}
+
+/// [`draw_two_pass`] with `scratch`.
+fn two_pass<'s, S: Shader>(
+    input: &BandInput<S>,
+    b: usize,
+    mut target: BandTarget<'s>,
+    dirty: &mut [(u32, u32)],
+    scratch: &'s mut Scratch,
+    block: u32,
+) -> u64 {
+    let width = target.width as usize;
+    if scratch.ids.len() < target.color.len() {
+        scratch.ids.resize(target.color.len(), 0);
+    }
+    scratch.extents.clear();
+    let rows = target.color.len() / width.max(1);
+    scratch.extents.resize(rows, (u32::MAX, 0));
+    let epoch = EPOCH.fetch_add(1, Ordering::Relaxed) << 32;
+    let (ids, extents) = (&mut scratch.ids, &mut scratch.extents);
+    let records = depth_pass(input, b, &mut target, ids, extents, epoch);
+    mark_owners(ids, extents, width, epoch, records, &mut scratch.owns);
+    // Only the depth pass writes outside the pixels it recorded (the shading passes write
+    // where it did).
+    for (d, e) in dirty.iter_mut().zip(scratch.extents.iter()) {
+        *d = (d.0.min(e.0), d.1.max(e.1));
+    }
+    let (mut shaded, mut traced) = (0, true);
+    if !input.incremental || S::FACE == Face::Stepped {
+        (shaded, traced) = by_pixel_pass(input, b, &mut target, scratch, epoch, block);
+    }
+    if traced {
+        let scratch: &'s Scratch = scratch;
+        target.ids = &scratch.ids;
+        shaded += visible_pass(input, b, &mut target, &scratch.owns, epoch);
+    }
+    shaded
+}
+
+/// Whether record `r` is shaded from the id buffer (interpolated, and not walked by the
+/// incremental scan line).
+#[inline(always)]
+fn by_pixel<S: Shader>(input: &BandInput<S>, c: &Binned<S::Stepped>, r: &TriRec) -> bool {
+    let walked = input.incremental && S::FACE == Face::Interpolated;
+    !(walked || BandInput::<S>::is_stepped(c, r))
+}
+
+/// The by-pixel pass of band `b`, after the depth pass left its ids in `scratch`: the planes
+/// of the visible records ([`visible_planes`]), then every pixel whose id names one of them
+/// gets [`Shader::pixel`] of its varyings, eight pixels per call with AVX2 (else four), with
+/// no second traversal. Returns the pixels (or pixel and triangle pairs) shaded, and whether
+/// some visible record is left for [`visible_pass`].
+fn by_pixel_pass<S: Shader>(
+    input: &BandInput<S>,
+    b: usize,
+    target: &mut BandTarget,
+    scratch: &mut Scratch,
+    epoch: u64,
+    block: u32,
+) -> (u64, bool) {
+    let Scratch {
+        ids,
+        owns,
+        extents,
+        slot,
+        planes,
+    } = scratch;
+    let traced = visible_planes(input, b, owns, slot, planes);
+    let pass = ByPixel {
+        slot,
+        planes,
+        ids,
+        epoch,
+        extents,
+        width: target.width,
+        y0: target.y0,
+        n: interpolated::<S>(),
+        perspective: input.perspective && S::VARYINGS > 0,
+        block: block as usize,
+        ceiling: input.ceiling,
+    };
+    let shader = input.shader;
+    // More than eight attributes: a loop compiled for this shader (`ByPixel::shade_wide`).
+    let wide_attrs = lanes(interpolated::<S>()) > 8;
+    let shaded = if let Some(avx2) = input.wide.avx2 {
+        let wide = input.wide;
+        let kernel = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
+        if wide_attrs {
+            #[cfg(target_arch = "x86_64")]
+            {
+                pass.shade_wide_avx2(avx2, shader, target.color)
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                let _ = avx2;
+                pass.shade_wide::<8, _>(target.color, &kernel)
+            }
+        } else {
+            #[cfg(target_arch = "x86_64")]
+            {
+                pass.shade_avx2(avx2, target.color, &kernel)
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                pass.shade::<8>(target.color, &kernel)
+            }
+        }
+    } else {
+        let kernel = |a: &[Attrs; 4], count, ceiling| shade4(shader, a, count, ceiling);
+        if wide_attrs {
+            pass.shade_wide::<4, _>(target.color, &kernel)
+        } else {
+            pass.shade::<4>(target.color, &kernel)
+        }
+    };
+    (shaded, traced)
+}
+
+/// The depth pass of band `b`: every triangle set up without attributes (the same edges and
+/// depth plane), depth-tested and written, and `ids[pixel]` set to `epoch + k` where record
+/// `k` of the band is now the nearest; `extents[row]` is widened to the columns written.
+/// Returns the band's record count.
+fn depth_pass<S: Shader>(
+    input: &BandInput<S>,
+    b: usize,
+    target: &mut BandTarget,
+    ids: &mut [u64],
+    extents: &mut [(u32, u32)],
+    epoch: u64,
+) -> usize {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx2) = input.wide.avx2 {
+        return avx2.run(DepthRun {
+            input,
+            b,
+            target,
+            ids,
+            extents,
+            epoch,
+        });
+    }
+    depth_loop(input, b, target, ids, extents, epoch)
+}
+
+/// [`depth_pass`] as one AVX2 function.
+#[cfg(target_arch = "x86_64")]
+struct DepthRun<'p, 'a, 't, S: Shader> {
+    input: &'p BandInput<'a, S>,
+    b: usize,
+    target: &'p mut BandTarget<'t>,
+    ids: &'p mut [u64],
+    extents: &'p mut [(u32, u32)],
+    epoch: u64,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<S: Shader> phosphor_lighting::Avx2Task for DepthRun<'_, '_, '_, S> {
+    type Output = usize;
+    #[inline(always)]
+    fn run(self, _: phosphor_lighting::Avx2) -> usize {
+        let Self {
+            input,
+            b,
+            target,
+            ids,
+            extents,
+            epoch,
+        } = self;
+        depth_loop(input, b, target, ids, extents, epoch)
+    }
+}
+
+/// [`depth_pass`]'s loop over the records.
+#[inline(always)]
+fn depth_loop<S: Shader>(
+    input: &BandInput<S>,
+    b: usize,
+    target: &mut BandTarget,
+    ids: &mut [u64],
+    extents: &mut [(u32, u32)],
+    epoch: u64,
+) -> usize {
+    let mut t = RasterTri::empty();
+    let (mut seq, mut sink) = (epoch, 0);
+    for (c, recs) in input.records(b) {
+        for (i, r) in recs.iter().enumerate() {
+            sink ^= input.touch(recs.get(i + AHEAD), 0);
+            if input.setup(&mut t, c, r, 0) {
+                depth_only(&t, target, ids, extents, seq);
+            }
+            seq += 1;
+        }
+    }
+    std::hint::black_box(sink);
+    (seq - epoch) as usize
+}
+
+/// `owns[k]`: whether record `k` of `records` owns a pixel after the depth pass, from the ids
+/// it left inside `extents` (rows `width` pixels wide). Only those records are visible: a
+/// triangle nearest somewhere when drawn is often covered later by a nearer one (about half
+/// of them in S1).
+fn mark_owners(
+    ids: &[u64],
+    extents: &[(u32, u32)],
+    width: usize,
+    epoch: u64,
+    records: usize,
+    owns: &mut Vec<bool>,
+) {
+    owns.clear();
+    owns.resize(records, false);
+    for (row, &(lo, hi)) in extents.iter().enumerate() {
+        let (lo, hi) = (
+            row * width + lo as usize,
+            row * width + (hi as usize).min(width),
+        );
+        for &id in ids.get(lo..hi).unwrap_or(&[]) {
+            // Ids below the epoch were left by earlier bands.
+            if let Some(o) = id.checked_sub(epoch).and_then(|k| owns.get_mut(k as usize)) {
+                *o = true;
+            }
+        }
+    }
+}
+
+/// The attribute planes of band `b`'s records that own a pixel and are shaded by pixel:
+/// `slot[k]` is record `k`'s index in `planes`, or `u32::MAX`. Returns whether some owner is
+/// not shaded by pixel (and needs [`visible_pass`]).
+fn visible_planes<S: Shader>(
+    input: &BandInput<S>,
+    b: usize,
+    owns: &[bool],
+    slot: &mut Vec<u32>,
+    planes: &mut Vec<Planes>,
+) -> bool {
+    let n = S::VARYINGS;
+    let mut t = RasterTri::empty();
+    slot.clear();
+    planes.clear();
+    let (mut k, mut traced, mut sink) = (0, false, 0);
+    for (c, recs) in input.records(b) {
+        for (i, r) in recs.iter().enumerate() {
+            if owns.get(k + AHEAD) == Some(&true) {
+                sink ^= input.touch(recs.get(i + AHEAD), n);
+            }
+            let owner = owns.get(k) == Some(&true);
+            let by_pixel = owner && by_pixel(input, c, r);
+            traced |= owner && !by_pixel;
+            // Its pixels are known: the planes alone.
+            let visible = by_pixel
+                && input
+                    .vertices_of(r, c, n)
+                    .is_some_and(|(p, a)| t.set_planes(p, a, n, input.perspective));
+            slot.push(if visible {
+                planes.len() as u32
+            } else {
+                u32::MAX
+            });
+            if visible {
+                if let Some(k) = S::GRADIENTS {
+                    t.add_gradients(k);
+                }
+                planes.push(Planes::of(&t));
+            }
+            k += 1;
+        }
+    }
+    std::hint::black_box(sink);
+    traced
+}
+
+/// The visible pass of band `b`: the records that own a pixel and were not shaded by pixel
+/// traversed again, each pixel shaded where its id (in `target.ids`) names them. Returns the
+/// pixels shaded.
+fn visible_pass<S: Shader>(
+    input: &BandInput<S>,
+    b: usize,
+    target: &mut BandTarget,
+    owns: &[bool],
+    epoch: u64,
+) -> u64 {
+    let n = S::VARYINGS;
+    let mut t = RasterTri::empty();
+    let mut batched = input.batched();
+    let (mut shaded, mut seq) = (0, epoch);
+    for (c, recs) in input.records(b) {
+        for r in recs {
+            let owner = owns.get((seq - epoch) as usize) == Some(&true);
+            if owner && !by_pixel(input, c, r) && input.setup(&mut t, c, r, n) {
+                target.pass = Pass::Visible(seq);
+                shaded += input.draw(&t, (c, r), target, &mut batched);
+            }
+            seq += 1;
+        }
+    }
+    batched.flush(target.color);
+    shaded
+}
