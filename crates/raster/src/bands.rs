@@ -114,7 +114,7 @@ fn draw_single<S: Shader>(
 }
 
 /// [`draw_single`]'s loop over the records; `INLINE`: with the traversal inlined
-/// ([`BandInput::draw_inline`]).
+/// ([`BandInput::draw`]).
 #[inline(always)]
 fn single_loop<S: Shader, const INLINE: bool>(
     input: &BandInput<S>,
@@ -133,11 +133,7 @@ fn single_loop<S: Shader, const INLINE: bool>(
             if input.setup(&mut t, c, r, n) {
                 // A shader writes only inside the triangle's pixel box.
                 mark_dirty(dirty, y0, (t.y0, t.y1), (t.x0, t.x1), width);
-                shaded += if INLINE {
-                    input.draw_inline(&t, (c, r), target, &mut batched)
-                } else {
-                    input.draw(&t, (c, r), target, &mut batched)
-                };
+                shaded += input.draw::<INLINE>(&t, (c, r), target, &mut batched);
             }
         }
     }

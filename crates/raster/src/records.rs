@@ -129,9 +129,10 @@ impl<S: Shader> BandInput<'_, S> {
 
     /// Draws record `r` of chunk `c`, set up in `t` with the shader's varyings, into
     /// `target`'s pass; interpolated pixels of a shade-once shader go through `batched`.
-    /// Returns the pixels shaded.
+    /// `INLINE`: a constant colour's or a per-pixel stage's traversal is inlined into the
+    /// caller (the one-pass band loop compiled for AVX2). Returns the pixels shaded.
     #[inline(always)]
-    pub(crate) fn draw(
+    pub(crate) fn draw<const INLINE: bool>(
         &self,
         t: &RasterTri,
         (c, r): (&Binned<S::Stepped>, &TriRec),
@@ -141,10 +142,10 @@ impl<S: Shader> BandInput<'_, S> {
         match S::FACE {
             Face::Constant => {
                 if self.depth_only {
-                    return traverse(t, &mut DepthOnly, target);
+                    return walk::<_, INLINE>(t, &mut DepthOnly, target);
                 }
                 let color = c.colors.get(r.tri as usize).copied().unwrap_or(Vec3::ZERO);
-                return traverse(t, &mut Solid::of(color, self.ceiling), target);
+                return walk::<_, INLINE>(t, &mut Solid::of(color, self.ceiling), target);
             }
             Face::Stepped => {
                 if let Some(tri) = c.stepped_of(r) {
@@ -165,7 +166,9 @@ impl<S: Shader> BandInput<'_, S> {
         }
         let full = target.pass == Pass::Full;
         let shaded = match (self.incremental, S::SHADE_ONCE) {
-            (false, false) => traverse(t, &mut OnePixel(self.shader, self.ceiling), target),
+            (false, false) => {
+                walk::<_, INLINE>(t, &mut OnePixel(self.shader, self.ceiling), target)
+            }
             (false, true) => traverse(t, batched, target),
             (true, once) => {
                 let Some((p, a)) = self.vertices_of(r, c, S::VARYINGS) else {
@@ -186,30 +189,6 @@ impl<S: Shader> BandInput<'_, S> {
         shaded
     }
 
-    /// [`BandInput::draw`] in one pass with the traversal inlined into the caller (the band
-    /// loop compiled for AVX2), for a constant colour or a pixel stage run per pixel drawn;
-    /// anything else (the incremental walk) goes through [`BandInput::draw`].
-    #[inline(always)]
-    pub(crate) fn draw_inline(
-        &self,
-        t: &RasterTri,
-        (c, r): (&Binned<S::Stepped>, &TriRec),
-        target: &mut BandTarget,
-        batched: &mut Batched<S>,
-    ) -> u64 {
-        match S::FACE {
-            Face::Constant if self.depth_only => traverse_inline(t, &mut DepthOnly, target),
-            Face::Constant => {
-                let color = c.colors.get(r.tri as usize).copied().unwrap_or(Vec3::ZERO);
-                traverse_inline(t, &mut Solid::of(color, self.ceiling), target)
-            }
-            Face::Interpolated if !self.incremental && !S::SHADE_ONCE => {
-                traverse_inline(t, &mut OnePixel(self.shader, self.ceiling), target)
-            }
-            _ => self.draw(t, (c, r), target, batched),
-        }
-    }
-
     /// The batching state of a band.
     pub(crate) fn batched(&self) -> Batched<'_, S> {
         Batched {
@@ -217,6 +196,20 @@ impl<S: Shader> BandInput<'_, S> {
             pending: Pending::new(self.ceiling),
             stepped: StepQueue::new(),
         }
+    }
+}
+
+/// [`traverse`], or with `INLINE` [`traverse_inline`].
+#[inline(always)]
+fn walk<T: SpanShade, const INLINE: bool>(
+    t: &RasterTri,
+    shade: &mut T,
+    target: &mut BandTarget,
+) -> u64 {
+    if INLINE {
+        traverse_inline(t, shade, target)
+    } else {
+        traverse(t, shade, target)
     }
 }
 
@@ -239,7 +232,3 @@ impl IncrementalTri {
         }
     }
 }
-
-/// Keeps the trait in scope for `batched.flush`.
-#[allow(dead_code)]
-fn _uses<T: SpanShade>() {}

@@ -353,7 +353,7 @@ fn visible_pass<S: Shader>(
             let owner = owns.get((seq - epoch) as usize) == Some(&true);
             if owner && !by_pixel(input, c, r) && input.setup(&mut t, c, r, n) {
                 target.pass = Pass::Visible(seq);
-                shaded += input.draw(&t, (c, r), target, &mut batched);
+                shaded += input.draw::<false>(&t, (c, r), target, &mut batched);
             }
             seq += 1;
         }

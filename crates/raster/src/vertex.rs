@@ -201,7 +201,8 @@ fn transform(mesh: &MeshView, model: Mat4, vp: Mat4, threads: usize) -> Vec<(Vec
         if nm.is_finite() { nm } else { m3 }
     };
     let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
-    // Position and normal, with the other inputs at their defaults.
+    // Position and normal (zero where the mesh has none, as in a positions-only draw), with
+    // the other inputs at their defaults.
     let surface = |i: usize| {
         let world = model.transform_point3(mesh.positions[i]);
         let normal = mesh
@@ -220,20 +221,6 @@ fn transform(mesh: &MeshView, model: Mat4, vp: Mat4, threads: usize) -> Vec<(Vec
         )
     };
     if mesh.uvs.is_none() && mesh.tangents.is_none() && mesh.colors.is_none() {
-        if mesh.normals.is_empty() {
-            // Coverage and depth alone (fill-only, shadow casters): positions only.
-            return map_indices(threads, mesh.positions.len(), 4096, |i| {
-                let world = model.transform_point3(mesh.positions[i]);
-                let v = VertexIn {
-                    world,
-                    normal: Vec3::ZERO,
-                    uv: Vec2::ZERO,
-                    tangent: Vec4::ZERO,
-                    color: Vec3::ONE,
-                };
-                (vp * world.extend(1.0), v)
-            });
-        }
         // Most meshes: no per-vertex tests for the arrays that are absent.
         return map_indices(threads, mesh.positions.len(), 4096, surface);
     }
