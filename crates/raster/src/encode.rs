@@ -80,6 +80,22 @@ impl Encoder {
         };
         self.lut[(v * (LUT_SIZE - 1) as f32 + 0.5) as usize]
     }
+
+    /// The codes of four values, each [`Encoder::encode`]'s: the clamp, scale and
+    /// truncation that form a table index run in four lanes (the same IEEE operations in the
+    /// same order, so the same index), and each lane's index looks the table up. For whole
+    /// images, where the per-value clamp and saturating conversion cost more than the lookup.
+    #[inline(always)]
+    #[must_use]
+    pub fn encode4(self, v: [f32; 4]) -> [u8; 4] {
+        use phosphor_lighting::{Lanes, f32x4};
+        // `max_c` is the select `x > 0 ? x : 0`: NaN becomes 0 before the index is formed, as
+        // in `encode`. The index is in `[0.5, LUT_SIZE - 0.5]`, so truncation needs no
+        // saturation.
+        let v = f32x4::new(v).max_c(f32x4::ZERO).min_c(f32x4::ONE);
+        let at = (v * f32x4::splat((LUT_SIZE - 1) as f32) + f32x4::splat(0.5)).fast_trunc_int();
+        at.to_array().map(|i| self.lut[i as usize & (LUT_SIZE - 1)])
+    }
 }
 
 /// How linear intensities, which may exceed 1 in a high-dynamic-range framebuffer
