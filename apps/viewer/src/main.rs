@@ -221,8 +221,12 @@ fn main() -> ExitCode {
         Ok(viewer) => {
             if frames_mode && viewer.frames > 0 {
                 let mean = viewer.total_ms / f64::from(viewer.frames);
+                // The median, as `phosphor bench` reports, so the two compare frame for frame.
+                let mut ms = viewer.frame_ms.clone();
+                ms.sort_by(f64::total_cmp);
+                let median = ms.get(ms.len() / 2).copied().unwrap_or(mean);
                 term::say(&format!(
-                    "frames={} mean_ms={mean:.2} fps={:.1} triangles={}",
+                    "frames={} mean_ms={mean:.2} median_ms={median:.2} fps={:.1} triangles={}",
                     viewer.frames,
                     1e3 / mean.max(1e-3),
                     viewer.triangles

@@ -103,6 +103,8 @@ pub struct Viewer {
     pub triangles: u64,
     pub frames: u32,
     pub total_ms: f64,
+    /// Every frame's milliseconds, in order (for `--frames` mode's median).
+    pub frame_ms: Vec<f64>,
     /// The scene's clock: the instant shown, and whether it runs.
     pub clock: Clock,
     /// Warnings already printed (each once, not once per frame).
@@ -189,6 +191,7 @@ impl Viewer {
             triangles: 0,
             frames: 0,
             total_ms: 0.0,
+            frame_ms: Vec::new(),
             clock: Clock::default(),
             told: Vec::new(),
             reload: None,
@@ -381,6 +384,7 @@ impl View for Viewer {
         self.refine_next = false;
         self.frames += 1;
         self.total_ms += ms;
+        self.frame_ms.push(ms);
         Ok(())
     }
 

@@ -4,7 +4,8 @@
 //! prints `MODE threads=N median_ms=X min_ms=Y cpu_ms=Z` per line (`cpu_ms`: on-CPU time of
 //! all our threads, the cost without other processes' share of a busy machine), and `fill-only` (coverage, depth,
 //! one constant colour) as the speed bound. Loading is excluded; each mode is warmed up once.
-//! `S1_CULL=1` skips back faces (the bunny is a closed solid: the same picture).
+//! `S1_CULL=1` skips back faces (the bunny is a closed solid: the same picture); `S1_AA=msaa4`
+//! (or another `--aa` name) anti-aliases the modes.
 
 use std::path::Path;
 use std::time::Instant;
@@ -13,7 +14,8 @@ use glam::Mat4;
 use phosphor_lighting::{LightSet, Material, effects_for};
 use phosphor_mesh::{NormalOptions, load_obj};
 use phosphor_raster::{
-    Camera, DrawItem, Framebuffer, MeshView, RenderOptions, ShadingMode, render, render_fill_only,
+    Antialias, Camera, DrawItem, Framebuffer, MeshView, RenderOptions, ShadingMode, render,
+    render_fill_only,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -82,8 +84,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         if file_order { "file" } else { "render" }
     );
     for &t in &threads {
+        // S1_AA=msaa4 (or any `--aa` name) draws every mode anti-aliased.
+        let antialias = match std::env::var("S1_AA") {
+            Ok(name) => name.parse()?,
+            Err(_) => Antialias::Off,
+        };
         let opts = RenderOptions {
             threads: t,
+            antialias,
             ..RenderOptions::default()
         };
         let mut time = |name: &str, f: &mut dyn FnMut(&mut Framebuffer) -> u64| {
