@@ -318,7 +318,7 @@ mod tests {
         );
         // The frame drawn is posed at the clock: the spinning turntable has turned 33 degrees.
         let mut out = vec![0u32; 64 * 36];
-        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.draw(64, 36, &mut out, false).unwrap();
         assert_eq!(viewer.scene.time.seconds, 1.1);
         let table = viewer
             .scene

@@ -12,7 +12,7 @@ use phosphor_output::term;
 use phosphor_raster::encode::Encoder;
 use phosphor_raster::overlay::{Edges, Overlays};
 use phosphor_raster::{
-    Antialias, Camera, Encoding, FastPhongMethod, Framebuffer, Interpolation, Projection,
+    Antialias, Camera, Encoding, FastPhongMethod, Framebuffer, Interpolation, Projection, Shown,
 };
 use phosphor_scene::animation::{Time, is_animated, update};
 use phosphor_scene::preset::ViewPreset;
@@ -105,6 +105,8 @@ pub struct Viewer {
     pub total_ms: f64,
     /// Every frame's milliseconds, in order (for `--frames` mode's median).
     pub frame_ms: Vec<f64>,
+    /// What the window's buffer holds after the last frame ([`Framebuffer::write_0rgb_over`]).
+    shown: Option<Shown>,
     /// The scene's clock: the instant shown, and whether it runs.
     pub clock: Clock,
     /// Warnings already printed (each once, not once per frame).
@@ -192,6 +194,7 @@ impl Viewer {
             frames: 0,
             total_ms: 0.0,
             frame_ms: Vec::new(),
+            shown: None,
             clock: Clock::default(),
             told: Vec::new(),
             reload: None,
@@ -316,7 +319,7 @@ fn overlay_title(o: &Overlays) -> String {
 }
 
 impl View for Viewer {
-    fn draw(&mut self, width: u32, height: u32, out: &mut [u32]) -> Result<(), String> {
+    fn draw(&mut self, width: u32, height: u32, out: &mut [u32], held: bool) -> Result<(), String> {
         let start = Instant::now();
         let fb = match self.fb.take() {
             Some(fb) if fb.width() == width && fb.height() == height => fb,
@@ -359,7 +362,10 @@ impl View for Viewer {
                 self.told.push(w.clone());
             }
         }
-        fb.write_0rgb_threads(out, 0);
+        // What the buffer holds from the last frame, if it still holds it: then only the
+        // columns either frame wrote are converted or cleared.
+        let before = self.shown.take().filter(|_| held);
+        self.shown = Some(fb.write_0rgb_over(out, 0, before.as_ref()));
         self.fb = Some(fb);
         let ms = start.elapsed().as_secs_f64() * 1e3;
         self.last_ms = ms;
@@ -533,7 +539,7 @@ mod tests {
     /// The centre pixel of a 32x24 frame, as 0x00RRGGBB channels.
     fn centre(viewer: &mut Viewer) -> [u32; 3] {
         let mut out = vec![0u32; 32 * 24];
-        viewer.draw(32, 24, &mut out).unwrap();
+        viewer.draw(32, 24, &mut out, false).unwrap();
         let p = out[12 * 32 + 16];
         [(p >> 16) & 255, (p >> 8) & 255, p & 255]
     }
@@ -623,12 +629,12 @@ mod tests {
         viewer.antialias = Antialias::Ssaa4;
         let mut out = vec![0u32; 64 * 36];
         // First frame: not yet known to keep up, drawn with one sample; refinement wanted.
-        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.draw(64, 36, &mut out, false).unwrap();
         assert_eq!(viewer.last_antialias, Antialias::Off);
         assert!(viewer.wants_refinement());
         // The refined frame uses the still picture's samples, and then nothing is wanted.
         viewer.refine();
-        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.draw(64, 36, &mut out, false).unwrap();
         assert_eq!(viewer.last_antialias, Antialias::Ssaa4);
         assert!(!viewer.wants_refinement());
         // Whether it kept up depends on the machine: both outcomes, set by hand.
@@ -640,7 +646,7 @@ mod tests {
         // `--frames` mode draws every frame as asked and never refines.
         viewer.fixed_frames = true;
         assert_eq!(viewer.frame_antialias(), Antialias::Ssaa4);
-        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.draw(64, 36, &mut out, false).unwrap();
         viewer.antialias = Antialias::Ssaa16;
         assert!(!viewer.wants_refinement());
     }
@@ -651,23 +657,23 @@ mod tests {
         let mut out = vec![0u32; 64 * 36];
         // The default scene's key light casts shadows: the first frame draws its map, and
         // whether it kept up depends on the machine.
-        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.draw(64, 36, &mut out, false).unwrap();
         assert!(!viewer.shadows_dropped);
         // Too slow: moving frames go without shadows and ask for the still picture.
         viewer.shadows_keep_up = false;
         viewer.apply(Action::Orbit { dx: 5.0, dy: 0.0 }, 36);
         assert_eq!(viewer.frame_shadows(), Some(false));
-        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.draw(64, 36, &mut out, false).unwrap();
         assert!(viewer.shadows_dropped && viewer.wants_refinement());
         // The still picture has them again, and then nothing more is wanted.
         viewer.refine();
         assert_eq!(viewer.frame_shadows(), None);
-        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.draw(64, 36, &mut out, false).unwrap();
         assert!(!viewer.shadows_dropped && !viewer.wants_refinement());
         // Shadows switched off with key D are never dropped, so never refined.
         viewer.shadows = Some(false);
         viewer.shadows_keep_up = false;
-        viewer.draw(64, 36, &mut out).unwrap();
+        viewer.draw(64, 36, &mut out, false).unwrap();
         assert!(!viewer.shadows_dropped);
         // `--frames` mode draws every frame as asked.
         viewer.shadows = Some(true);
@@ -681,16 +687,18 @@ mod tests {
         viewer.fixed_frames = true;
         let (w, h) = (96u32, 54u32);
         let mut plain = vec![0u32; (w * h) as usize];
-        viewer.draw(w, h, &mut plain).unwrap();
+        viewer.draw(w, h, &mut plain, false).unwrap();
+        // `out` is kept from frame to frame, as a window's buffer is: after the first frame
+        // only what changed is written into it.
         let mut out = vec![0u32; (w * h) as usize];
         let differs = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
         // W: every edge, then crease edges only (fewer pixels), then off.
         viewer.apply(Action::CycleWireframe, h);
-        viewer.draw(w, h, &mut out).unwrap();
+        viewer.draw(w, h, &mut out, false).unwrap();
         let every = differs(&plain, &out);
         assert!(viewer.title().contains("| wireframe"), "{}", viewer.title());
         viewer.apply(Action::CycleWireframe, h);
-        viewer.draw(w, h, &mut out).unwrap();
+        viewer.draw(w, h, &mut out, true).unwrap();
         let creases = differs(&plain, &out);
         assert!(viewer.title().contains("| creases"));
         assert!(
@@ -698,12 +706,12 @@ mod tests {
             "{every} {creases}"
         );
         viewer.apply(Action::CycleWireframe, h);
-        viewer.draw(w, h, &mut out).unwrap();
+        viewer.draw(w, h, &mut out, true).unwrap();
         assert_eq!(differs(&plain, &out), 0, "off again");
         // G and X: the grid and the corner triad, named in the title together.
         viewer.apply(Action::ToggleGrid, h);
         viewer.apply(Action::ToggleAxes, h);
-        viewer.draw(w, h, &mut out).unwrap();
+        viewer.draw(w, h, &mut out, true).unwrap();
         assert!(differs(&plain, &out) > 20);
         assert!(
             viewer.title().contains("| grid, axes"),
@@ -713,7 +721,7 @@ mod tests {
         // Off again, and the window's partial clear leaves nothing of them behind.
         viewer.apply(Action::ToggleGrid, h);
         viewer.apply(Action::ToggleAxes, h);
-        viewer.draw(w, h, &mut out).unwrap();
+        viewer.draw(w, h, &mut out, true).unwrap();
         assert_eq!(differs(&plain, &out), 0);
     }
 }

@@ -30,8 +30,10 @@ use crate::watch::Watch;
 /// What the window shows and how it reacts; `main.rs` implements it with the scene renderer.
 pub trait View {
     /// Draws a frame of `width` x `height` physical pixels into `out` (row-major, `0x00RRGGBB`,
-    /// `out.len() == width * height`). Returns an error message if it could not draw.
-    fn draw(&mut self, width: u32, height: u32, out: &mut [u32]) -> Result<(), String>;
+    /// `out.len() == width * height`). `held`: `out` still holds the words of the frame this
+    /// view drew into it last (the surface's buffer age is 1), so only what changed need be
+    /// written. Returns an error message if it could not draw.
+    fn draw(&mut self, width: u32, height: u32, out: &mut [u32], held: bool) -> Result<(), String>;
     /// The window title describing the last frame.
     fn title(&self) -> String;
     /// Applies a user action; returns true when the picture must be redrawn.
@@ -202,7 +204,8 @@ impl<V: View> App<V> {
             .map_err(|e| one_line(&e))
             .and_then(|()| gfx.surface.buffer_mut().map_err(|e| one_line(&e)))
             .and_then(|mut buffer| {
-                self.view.draw(w.get(), h.get(), &mut buffer)?;
+                let held = buffer.age() == 1;
+                self.view.draw(w.get(), h.get(), &mut buffer, held)?;
                 buffer.present().map_err(|e| one_line(&e))
             });
         if let Err(e) = result {

@@ -4,6 +4,7 @@
 use glam::Vec3;
 
 mod readout;
+pub use readout::Shown;
 
 /// Errors of the raster crate; each names the value at fault.
 #[derive(Debug, thiserror::Error)]

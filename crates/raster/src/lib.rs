@@ -104,7 +104,7 @@ pub use antialias::{Antialias, UnknownAntialias};
 pub use bump::{BumpMap, ProceduralBump};
 pub use camera::{Camera, Projection};
 pub use encode::{Encoding, ToneMap};
-pub use framebuffer::{Framebuffer, PixelLayout, RasterError};
+pub use framebuffer::{Framebuffer, PixelLayout, RasterError, Shown};
 pub use render::{Frame, coverage_counts, render, render_fill_only};
 pub use shader::Shader;
 pub use shaders::check::FAST_PHONG_TOLERANCE;

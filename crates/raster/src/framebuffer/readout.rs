@@ -21,6 +21,17 @@ impl Framebuffer {
     /// so those are filled with its one encoded value and only the written columns are
     /// converted pixel by pixel (a frame of a small object converts a fraction of the image).
     pub fn write_0rgb_threads(&self, out: &mut [u32], threads: usize) {
+        self.write_0rgb_over(out, threads, None);
+    }
+
+    /// [`Framebuffer::write_0rgb_threads`] into a buffer that may still hold what an earlier
+    /// call wrote: `held` is what that call returned, when the buffer holds those words
+    /// unchanged (a window surface whose buffer age is 1). Where that frame and this one had
+    /// the same clear colour and size, only the columns either of them wrote are rewritten,
+    /// so a frame of a small object touches a fraction of the buffer. The buffer ends with
+    /// the same words as `write_0rgb_threads` writes. Returns what it now holds, for the next
+    /// call.
+    pub fn write_0rgb_over(&self, out: &mut [u32], threads: usize, held: Option<&Shown>) -> Shown {
         let enc = Encoder::new(Encoding::Srgb);
         let width = self.width as usize;
         let n = out.len().min(self.color.len());
@@ -29,23 +40,59 @@ impl Framebuffer {
             pack_0rgb(enc, &[c], &mut word);
             word[0]
         });
-        let rows: Vec<usize> = (0..n.div_ceil(width)).collect();
+        // The columns of each row that are not the background.
+        let written: Vec<(u32, u32)> = (0..n.div_ceil(width))
+            .map(|y| match (background, self.dirty.get(y)) {
+                (Some(_), Some(&(lo, hi))) => {
+                    let hi = hi.min(self.width);
+                    (lo.min(hi), hi)
+                }
+                _ => (0, self.width),
+            })
+            .collect();
+        let before = held
+            .filter(|h| {
+                h.size == (self.width, self.height)
+                    && h.len == n
+                    && h.background.is_some()
+                    && h.background == background
+            })
+            .map(|h| &h.written);
+        let rows: Vec<usize> = (0..written.len()).collect();
         crate::parallel::for_each_chunk(threads, &mut out[..n], &rows, (16, width), |dst, rows| {
             for (dst, &y) in dst.chunks_mut(width).zip(rows) {
                 let src = &self.color[y * width..y * width + dst.len()];
-                let (lo, hi) = match (background, self.dirty.get(y)) {
-                    (Some(bg), Some(&(lo, hi))) => {
-                        let hi = (hi as usize).min(dst.len());
-                        let lo = (lo as usize).min(hi);
-                        dst[..lo].fill(bg);
-                        dst[hi..].fill(bg);
-                        (lo, hi)
+                let end = dst.len();
+                let (lo, hi) = written[y];
+                let (lo, hi) = ((lo as usize).min(end), (hi as usize).min(end));
+                if let Some(bg) = background {
+                    // Outside `[lo, hi)` the background: the whole rest of the row, or only
+                    // where the buffer held the earlier frame's written columns.
+                    match before.and_then(|b| b.get(y)) {
+                        Some(&(a, b)) => {
+                            let (a, b) = ((a as usize).min(end), (b as usize).min(end));
+                            if lo >= hi {
+                                dst[a..b.max(a)].fill(bg);
+                            } else {
+                                dst[a.min(lo)..lo].fill(bg);
+                                dst[hi..b.max(hi)].fill(bg);
+                            }
+                        }
+                        None => {
+                            dst[..lo].fill(bg);
+                            dst[hi..].fill(bg);
+                        }
                     }
-                    _ => (0, dst.len()),
-                };
-                pack_0rgb(enc, &src[lo..hi], &mut dst[lo..hi]);
+                }
+                pack_0rgb(enc, &src[lo..hi.max(lo)], &mut dst[lo..hi.max(lo)]);
             }
         });
+        Shown {
+            size: (self.width, self.height),
+            len: n,
+            background,
+            written,
+        }
     }
 
     /// Interleaved 8-bit RGB, row-major from the top, through the encoding table.
@@ -96,6 +143,17 @@ impl Framebuffer {
     }
 }
 
+/// What [`Framebuffer::write_0rgb_over`] left in a buffer: the background's word and, per
+/// row, the columns holding anything else. Hand it to the next call while the buffer holds
+/// those words unchanged.
+#[derive(Debug, Clone, Default)]
+pub struct Shown {
+    size: (u32, u32),
+    len: usize,
+    background: Option<u32>,
+    written: Vec<(u32, u32)>,
+}
+
 /// `src` packed as `0x00RRGGBB` through `enc` into `dst` (as many pixels as both hold): four
 /// pixels' twelve channels as three four-lane steps of [`Encoder::encode4`], the rest one
 /// channel at a time; the same codes as [`Encoder::encode`] per channel.
@@ -122,6 +180,67 @@ fn pack_0rgb(enc: Encoder, src: &[Vec3], dst: &mut [u32]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A buffer kept from frame to frame ends every frame with the words a fresh full readout
+    /// writes: objects that move, appear and vanish, overlapping or not, rows that go clean,
+    /// a change of clear colour, a colour unknown to be clear everywhere, a size change and
+    /// a buffer not held (age 0), each on one and on several threads.
+    #[test]
+    fn a_held_buffer_matches_a_full_readout_frame_after_frame() {
+        let (w, h) = (53, 37);
+        let mut fb = Framebuffer::new(w, h).unwrap();
+        let mut small = Framebuffer::new(20, 10).unwrap();
+        let mut seed = 12345u32;
+        let mut next = |m: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed % m
+        };
+        for threads in [1, 0] {
+            let mut out = vec![0u32; (w * h) as usize];
+            let mut held: Option<Shown> = None;
+            for frame in 0..60 {
+                let (fb, out) = if frame % 17 == 16 {
+                    // Another size in between: the held state must not be trusted after it.
+                    let mut other = vec![0u32; 200];
+                    small.clear(Vec3::ZERO);
+                    held = Some(small.write_0rgb_over(&mut other, threads, held.as_ref()));
+                    continue;
+                } else {
+                    (&mut fb, &mut out)
+                };
+                let bg = if frame % 11 == 5 {
+                    Vec3::splat(0.25)
+                } else {
+                    Vec3::new(0.1, 0.2, 0.3)
+                };
+                fb.clear(bg);
+                for _ in 0..next(4) {
+                    // A rectangle of colour, widening the written columns as drawing does.
+                    let (x0, y0) = (next(w), next(h));
+                    let (x1, y1) = ((x0 + 1 + next(20)).min(w), (y0 + 1 + next(12)).min(h));
+                    let c = Vec3::new(next(100) as f32 / 99.0, 0.5, frame as f32 / 60.0);
+                    for y in y0..y1 {
+                        for x in x0..x1 {
+                            fb.color[(y * w + x) as usize] = c;
+                        }
+                        let d = &mut fb.dirty[y as usize];
+                        *d = (d.0.min(x0), d.1.max(x1));
+                    }
+                }
+                if frame % 13 == 7 {
+                    // Written behind the renderer's back: no colour is known to be clear.
+                    fb.clean = None;
+                }
+                let kept = if frame % 7 == 3 { None } else { held.as_ref() };
+                held = Some(fb.write_0rgb_over(out, threads, kept));
+                let mut full = vec![0u32; out.len()];
+                fb.write_0rgb_threads(&mut full, threads);
+                assert_eq!(*out, full, "frame {frame}, {threads} threads");
+            }
+        }
+    }
 
     /// The four-lane packing gives each channel [`Encoder::encode`]'s code, for the values
     /// where a lane operation could part from the scalar one: NaN, signed zeros and
