@@ -103,7 +103,8 @@ pub struct Viewer {
     pub triangles: u64,
     pub frames: u32,
     pub total_ms: f64,
-    /// Every frame's milliseconds, in order (for `--frames` mode's median).
+    /// Every frame's milliseconds in `--frames` mode, in order (for its median); empty in a
+    /// window the user drives, which could run for days.
     pub frame_ms: Vec<f64>,
     /// What the window's buffer holds after the last frame ([`Framebuffer::write_0rgb_over`]).
     shown: Option<Shown>,
@@ -390,7 +391,9 @@ impl View for Viewer {
         self.refine_next = false;
         self.frames += 1;
         self.total_ms += ms;
-        self.frame_ms.push(ms);
+        if self.fixed_frames {
+            self.frame_ms.push(ms);
+        }
         Ok(())
     }
 

@@ -63,6 +63,7 @@ impl Framebuffer {
             for (dst, &y) in dst.chunks_mut(width).zip(rows) {
                 let src = &self.color[y * width..y * width + dst.len()];
                 let end = dst.len();
+                // `lo <= hi` in `written` and in a held `Shown`, and so after the clamp to `end`.
                 let (lo, hi) = written[y];
                 let (lo, hi) = ((lo as usize).min(end), (hi as usize).min(end));
                 if let Some(bg) = background {
@@ -72,7 +73,7 @@ impl Framebuffer {
                         Some(&(a, b)) => {
                             let (a, b) = ((a as usize).min(end), (b as usize).min(end));
                             if lo >= hi {
-                                dst[a..b.max(a)].fill(bg);
+                                dst[a..b].fill(bg);
                             } else {
                                 dst[a.min(lo)..lo].fill(bg);
                                 dst[hi..b.max(hi)].fill(bg);
@@ -84,7 +85,7 @@ impl Framebuffer {
                         }
                     }
                 }
-                pack_0rgb(enc, &src[lo..hi.max(lo)], &mut dst[lo..hi.max(lo)]);
+                pack_0rgb(enc, &src[lo..hi], &mut dst[lo..hi]);
             }
         });
         Shown {
