@@ -14,7 +14,7 @@ use crate::clip::{Attrs, ClipVertex, MAX_ATTRS};
 use crate::parallel::{for_each_chunk_pair, map_indices};
 use crate::setup::ScreenPos;
 use crate::shader::{Shader, VertexLanes};
-use crate::viewport::Viewport;
+use crate::viewport::{LANES, Viewport};
 
 /// One mesh vertex in world space, as the vertex stage hands it on. Laid out in order (the
 /// first eight floats are position, normal and uv, the next seven tangent and colour), so that
@@ -148,15 +148,13 @@ impl<S: Shader> Chunk<'_, S> {
         let n = S::VARYINGS;
         for (g, group) in self.src.chunks(L::N).enumerate() {
             let base = g * L::N;
-            let mut scale = [0.0f32; 8];
-            let mut on_screen = false;
-            for (j, v) in group.iter().enumerate() {
-                if let Some((p, s)) = self.view.screen_pos(v.0) {
-                    self.pos[base + j] = p;
-                    scale[j] = s;
-                    on_screen = true;
-                }
-            }
+            let mut scale = [0.0f32; LANES];
+            let clip: [Vec4; LANES] = std::array::from_fn(|k| group[k.min(group.len() - 1)].0);
+            let on_screen = self.view.screen_pos_lanes(
+                &clip[..group.len()],
+                &mut self.pos[base..base + group.len()],
+                &mut scale,
+            );
             if n == 0 || !on_screen {
                 continue;
             }
