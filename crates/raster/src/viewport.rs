@@ -121,7 +121,7 @@ impl Viewport {
         let (width, height) = (f64::from(self.width), f64::from(self.height));
         let mut ok = [false; LANES];
         let (mut fx, mut fy) = ([0i32; LANES], [0i32; LANES]);
-        let (mut depth, mut inv_w, mut rhw) = ([0.0f64; LANES], [0.0; LANES], [0.0; LANES]);
+        let (mut depth, mut rhw) = ([0.0f64; LANES], [0.0f64; LANES]);
         for j in 0..LANES {
             let (x, y, z, w) = (x[j], y[j], z[j], w[j]);
             // `inside_clip_volume`: each plane's dot product has at most two terms that are
@@ -144,7 +144,6 @@ impl Viewport {
             ok[j] = finite & inside & (wd > 0.0) & (wd < f64::INFINITY) & x_ok & y_ok;
             ok[j] &= d.is_finite();
             (fx[j], fy[j], depth[j]) = (px, py, d);
-            inv_w[j] = if self.perspective { inv } else { 1.0 };
             rhw[j] = inv;
         }
         let mut any = false;
@@ -154,7 +153,7 @@ impl Viewport {
                     fx: fx[j],
                     fy: fy[j],
                     depth: depth[j],
-                    inv_w: inv_w[j],
+                    inv_w: if self.perspective { rhw[j] } else { 1.0 },
                 };
                 scale[j] = attr_scale(rhw[j], self.perspective);
                 any = true;
