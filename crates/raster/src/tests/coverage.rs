@@ -4,6 +4,10 @@ use glam::{Mat4, Vec3};
 use phosphor_lighting::{LightSet, Material};
 
 use super::support::*;
+use crate::coverage::{
+    BLOCK, RowVisit, block_depths, depth_at, depth_passes, depth_row, for_each_row, for_each_span,
+};
+use crate::setup::RasterTri;
 use crate::{
     Camera, DrawItem, Framebuffer, RenderOptions, ShadingMode, coverage_counts, render_fill_only,
 };
@@ -196,4 +200,87 @@ fn nearer_surface_wins_whatever_the_order() {
         let (fb, _) = draw_image(W, H, &cam, &order, &RenderOptions::default());
         assert_eq!(fb.pixel(W / 2, H / 2), Vec3::X);
     }
+}
+
+/// Records what [`for_each_row`] hands over, as covered pixels with their depths.
+#[derive(Default)]
+struct Rows {
+    pixels: Vec<(i64, i64, u64)>,
+    blocks: usize,
+}
+
+impl RowVisit for (Rows, &RasterTri, [f32; BLOCK]) {
+    fn span(&mut self, y: i64, xs: i64, xe: i64) {
+        let row = depth_row(self.1, y);
+        for x in xs..xe {
+            self.0.pixels.push((y, x, depth_at(self.1, row, x).to_bits()));
+        }
+    }
+    fn block(&mut self, y: i64, lo: i64, mask: u32) {
+        self.0.blocks += 1;
+        assert!(mask != 0 && mask < 1 << BLOCK, "mask {mask:#b}");
+        let (pass, depth) = block_depths(self.1, y, lo, mask, &self.2);
+        let row = depth_row(self.1, y);
+        for k in 0..BLOCK {
+            let want = depth_at(self.1, row, lo + k as i64);
+            // Every lane's depth and test are the one-pixel path's, bit for bit.
+            assert_eq!(depth[k].to_bits(), want.to_bits(), "depth at ({}, {y})", lo + k as i64);
+            let covered = mask & (1 << k) != 0;
+            assert_eq!(
+                pass & (1 << k) != 0,
+                covered && depth_passes(want, self.2[k]),
+                "test at ({}, {y})",
+                lo + k as i64
+            );
+            if covered {
+                self.0.pixels.push((y, lo + k as i64, want.to_bits()));
+            }
+        }
+    }
+}
+
+#[test]
+fn small_triangles_tested_a_block_at_a_time_cover_and_test_as_span_by_span() {
+    // Random small triangles (most under 9 pixels wide) at sub-pixel positions, some
+    // reaching past the image's right edge or the band's rows, with random depth planes and
+    // stored depths: the block path must hand over exactly the pixels, depths and depth tests
+    // of the span path.
+    let (width, y0, y1) = (40u32, 3i64, 19i64);
+    let mut seed = 0x9e37_79b9u32;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        f64::from(seed) / f64::from(u32::MAX)
+    };
+    let mut blocks = 0;
+    for i in 0..20_000 {
+        let size = if i % 10 == 0 { 14.0 } else { 1.0 + 8.0 * next() };
+        let (cx, cy) = (-4.0 + 48.0 * next(), 8.0 * next() + f64::from(i % 20));
+        let v = [0, 1, 2].map(|_| {
+            let depth = if i % 97 == 0 { -0.25 } else { next() };
+            super::interpolation::vertex_at_depth(
+                cx + size * next(),
+                cy + size * next(),
+                0.0,
+                depth,
+            )
+        });
+        let Some(t) = RasterTri::new([&v[0], &v[1], &v[2]], 0, false) else {
+            continue;
+        };
+        let stored = std::array::from_fn(|_| if next() < 0.2 { 1.0 } else { next() as f32 });
+        let mut by_rows = (Rows::default(), &t, stored);
+        for_each_row(&t, width, y0, y1, &mut by_rows);
+        let mut by_spans = Vec::new();
+        for_each_span(&t, width, y0, y1, |y, xs, xe| {
+            let row = depth_row(&t, y);
+            for x in xs..xe {
+                by_spans.push((y, x, depth_at(&t, row, x).to_bits()));
+            }
+        });
+        assert_eq!(by_rows.0.pixels, by_spans, "triangle {i}: {v:?}");
+        blocks += by_rows.0.blocks;
+    }
+    assert!(blocks > 10_000, "only {blocks} rows went by blocks");
 }
