@@ -108,20 +108,30 @@ pub(crate) fn depth_stored(depth: f64) -> f32 {
     depth.max(0.0) as f32
 }
 
-/// The row part of `t`'s depth plane at the centres of row `y`: [`depth_at`] adds the column
-/// part. Every pass evaluates the plane afresh at each pixel from these two (nothing is
-/// stepped along a row), so a pixel's depth does not depend on where its span or block
-/// started, and a row tested eight pixels at a time ([`for_each_row`]) gets exactly the
-/// depths of the same row walked pixel by pixel.
+/// The row part of `t`'s depth plane at the centres of row `y`; [`depth_at_offset`] adds
+/// the column part. Every pass evaluates the plane at each pixel from these two (the column
+/// offset stepped exactly, the depth not accumulated), so a pixel's depth does not depend on
+/// where its span or block started, and a row tested eight pixels at a time
+/// ([`for_each_row`]) gets exactly the depths of the same row walked pixel by pixel.
 #[inline(always)]
 pub(crate) fn depth_row(t: &RasterTri, y: i64) -> f64 {
     t.depth[0] + (y as f64 + 0.5 - t.origin.1) * t.depth[2]
 }
 
-/// `t`'s depth at the centre of column `x` of the row whose [`depth_row`] is `row`.
-#[inline(always)]
+/// `t`'s depth at the centre of column `x` of the row whose [`depth_row`] is `row` (the
+/// definition the passes' stepped and block forms are tested against).
+#[cfg(test)]
 pub(crate) fn depth_at(t: &RasterTri, row: f64, x: i64) -> f64 {
-    row + (x as f64 + 0.5 - t.origin.0) * t.depth[1]
+    depth_at_offset(t, row, x as f64 + 0.5 - t.origin.0)
+}
+
+/// `t`'s depth in the row whose [`depth_row`] is `row`, at the column whose centre is `ox`
+/// from the origin (`x + 0.5 - origin.x`). The origin is a vertex on the 1/256-pixel grid
+/// and columns stay below 2^31, so that offset is exact in f64: a span steps it by adding
+/// 1.0 and gets exactly the next column's.
+#[inline(always)]
+pub(crate) fn depth_at_offset(t: &RasterTri, row: f64, ox: f64) -> f64 {
+    row + ox * t.depth[1]
 }
 
 /// Columns of a block row ([`for_each_row`]): one AVX2 vector of `i32` edge values or `f32`
@@ -190,7 +200,7 @@ pub(crate) fn for_each_row(t: &RasterTri, width: u32, y0: i64, y1: i64, visit: &
 
 /// The depth test of block row `y` ([`RowVisit::block`]) against `stored` (the row's
 /// `BLOCK` depths from column `lo`): the columns of `mask` that pass, and the depths of all
-/// `BLOCK` columns. The depths are [`depth_at`]'s, the test [`depth_passes`].
+/// `BLOCK` columns. The depths are [`depth_at_offset`]'s, the test [`depth_passes`].
 #[inline(always)]
 pub(crate) fn block_depths(
     t: &RasterTri,
@@ -204,7 +214,7 @@ pub(crate) fn block_depths(
     let x = lo as f64;
     let mut depth = [0.0f64; BLOCK];
     for (k, d) in depth.iter_mut().enumerate() {
-        *d = row + (x + k as f64 + 0.5 - t.origin.0) * t.depth[1];
+        *d = depth_at_offset(t, row, x + k as f64 + 0.5 - t.origin.0);
     }
     // [`depth_passes`] of each column, its comparisons gathered as one vector's sign bits.
     let near = wide::f32x8::new(depth.map(|d| d as f32));
@@ -372,9 +382,11 @@ impl RowVisit for DepthVisit<'_> {
         let row_depth = depth_row(t, y);
         let before = self.written;
         let row = ((y - self.y0) as usize) * self.width;
+        let mut column = xs as f64 + 0.5 - t.origin.0;
         for x in xs..xe {
             let idx = row + x as usize;
-            let depth = depth_at(t, row_depth, x);
+            let depth = depth_at_offset(t, row_depth, column);
+            column += 1.0;
             if depth_passes(depth, self.stored[idx]) {
                 self.stored[idx] = depth_stored(depth);
                 self.ids[idx] = self.id;

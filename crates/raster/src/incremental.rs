@@ -8,7 +8,7 @@
 
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::{
-    BandTarget, Pass, depth_at, depth_row, depth_stored, for_each_span, pixel_drawn,
+    BandTarget, Pass, depth_at_offset, depth_row, depth_stored, for_each_span, pixel_drawn,
 };
 use crate::setup::RasterTri;
 use crate::traverse::SpanShade;
@@ -165,12 +165,14 @@ fn incremental_impl<K: SpanShade, const VISIBLE: bool>(
             v[k] += offset * dv[k];
         }
         let row_depth = depth_row(t, y);
+        let mut column = xs as f64 + 0.5 - t.origin.0;
         let mut state = shade.span(xs as f64 + 0.5, y as f64 + 0.5);
         let row = ((y - y0) as usize) * width as usize;
         let mut out: Attrs = [0.0; MAX_ATTRS];
         for x in xs..xe {
             let idx = row + x as usize;
-            let depth = depth_at(t, row_depth, x);
+            let depth = depth_at_offset(t, row_depth, column);
+            column += 1.0;
             let draw = pixel_drawn::<VISIBLE>(target, idx, id, depth);
             if draw {
                 let w = if perspective && v[n] != 0.0 {

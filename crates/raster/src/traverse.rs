@@ -18,7 +18,7 @@ use phosphor_lighting::F32x1;
 use crate::batch::{Pending, shade4};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::{
-    BLOCK, BandTarget, Pass, RowVisit, block_depths, depth_at, depth_row, depth_stored,
+    BLOCK, BandTarget, Pass, RowVisit, block_depths, depth_at_offset, depth_row, depth_stored,
     for_each_row, for_each_span, lanes, pixel_drawn,
 };
 use crate::framebuffer::clamp_color_to;
@@ -264,6 +264,7 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let yc = y as f64 + 0.5;
     let (ox, oy) = (xc - t.origin.0, yc - t.origin.1);
     let row_depth = depth_row(t, y);
+    let mut column = ox;
     let (mut inv_w, mut attrs) =
         planes_at(&t.inv_w, [&t.attr0, &t.attr_dx, &t.attr_dy], (ox, oy), n);
     let mut state = shade.span(xc, yc);
@@ -275,7 +276,7 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let mut shaded = 0;
     for x in x_start..x_end {
         let idx = row + x as usize;
-        let depth = depth_at(t, row_depth, x);
+        let depth = depth_at_offset(t, row_depth, column);
         if pixel_drawn::<VISIBLE>(target, idx, id, depth) {
             let w = if PERSPECTIVE && n > 0 {
                 (1.0 / inv_w) as f32
@@ -288,6 +289,7 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
             }
             shaded += 1;
         }
+        column += 1.0;
         if PERSPECTIVE && n > 0 {
             inv_w += t.inv_w[1];
         }

@@ -5,7 +5,8 @@ use phosphor_lighting::{LightSet, Material};
 
 use super::support::*;
 use crate::coverage::{
-    BLOCK, RowVisit, block_depths, depth_at, depth_passes, depth_row, for_each_row, for_each_span,
+    BLOCK, RowVisit, block_depths, depth_at, depth_at_offset, depth_passes, depth_row,
+    for_each_row, for_each_span,
 };
 use crate::setup::RasterTri;
 use crate::{
@@ -213,22 +214,30 @@ impl RowVisit for (Rows, &RasterTri, [f32; BLOCK]) {
     fn span(&mut self, y: i64, xs: i64, xe: i64) {
         let row = depth_row(self.1, y);
         for x in xs..xe {
-            self.0.pixels.push((y, x, depth_at(self.1, row, x).to_bits()));
+            self.0
+                .pixels
+                .push((y, x, depth_at(self.1, row, x).to_bits()));
         }
     }
     fn block(&mut self, y: i64, lo: i64, mask: u32) {
         self.0.blocks += 1;
         assert!(mask != 0 && mask < 1 << BLOCK, "mask {mask:#b}");
-        let (pass, depth) = block_depths(self.1, y, lo, mask, &self.2);
+        let stored = &self.2;
+        let (pass, depth) = block_depths(self.1, y, lo, mask, stored);
         let row = depth_row(self.1, y);
         for k in 0..BLOCK {
             let want = depth_at(self.1, row, lo + k as i64);
             // Every lane's depth and test are the one-pixel path's, bit for bit.
-            assert_eq!(depth[k].to_bits(), want.to_bits(), "depth at ({}, {y})", lo + k as i64);
+            assert_eq!(
+                depth[k].to_bits(),
+                want.to_bits(),
+                "depth at ({}, {y})",
+                lo + k as i64
+            );
             let covered = mask & (1 << k) != 0;
             assert_eq!(
                 pass & (1 << k) != 0,
-                covered && depth_passes(want, self.2[k]),
+                covered && depth_passes(want, stored[k]),
                 "test at ({}, {y})",
                 lo + k as i64
             );
@@ -255,7 +264,11 @@ fn small_triangles_tested_a_block_at_a_time_cover_and_test_as_span_by_span() {
     };
     let mut blocks = 0;
     for i in 0..20_000 {
-        let size = if i % 10 == 0 { 14.0 } else { 1.0 + 8.0 * next() };
+        let size = if i % 10 == 0 {
+            14.0
+        } else {
+            1.0 + 8.0 * next()
+        };
         let (cx, cy) = (-4.0 + 48.0 * next(), 8.0 * next() + f64::from(i % 20));
         let v = [0, 1, 2].map(|_| {
             let depth = if i % 97 == 0 { -0.25 } else { next() };
@@ -270,13 +283,23 @@ fn small_triangles_tested_a_block_at_a_time_cover_and_test_as_span_by_span() {
             continue;
         };
         let stored = std::array::from_fn(|_| if next() < 0.2 { 1.0 } else { next() as f32 });
+        // Depths nearly equal to the plane's, so that rounding decides some tests.
+        let mut stored: [f32; BLOCK] = stored;
+        if i % 3 == 0 {
+            let row = depth_row(&t, t.y0.max(y0));
+            for (k, s) in stored.iter_mut().enumerate() {
+                *s = depth_at(&t, row, t.x0.max(0) + k as i64) as f32;
+            }
+        }
         let mut by_rows = (Rows::default(), &t, stored);
         for_each_row(&t, width, y0, y1, &mut by_rows);
         let mut by_spans = Vec::new();
         for_each_span(&t, width, y0, y1, |y, xs, xe| {
-            let row = depth_row(&t, y);
+            // As the span passes step it: the column's offset from the origin, plus one.
+            let (row, mut column) = (depth_row(&t, y), xs as f64 + 0.5 - t.origin.0);
             for x in xs..xe {
-                by_spans.push((y, x, depth_at(&t, row, x).to_bits()));
+                by_spans.push((y, x, depth_at_offset(&t, row, column).to_bits()));
+                column += 1.0;
             }
         });
         assert_eq!(by_rows.0.pixels, by_spans, "triangle {i}: {v:?}");
