@@ -108,120 +108,6 @@ pub(crate) fn depth_stored(depth: f64) -> f32 {
     depth.max(0.0) as f32
 }
 
-/// The row part of `t`'s depth plane at the centres of row `y`; [`depth_at_offset`] adds
-/// the column part. Every pass evaluates the plane at each pixel from these two (the column
-/// offset stepped exactly, the depth not accumulated), so a pixel's depth does not depend on
-/// where its span or block started, and a row tested eight pixels at a time
-/// ([`for_each_row`]) gets exactly the depths of the same row walked pixel by pixel.
-#[inline(always)]
-pub(crate) fn depth_row(t: &RasterTri, y: i64) -> f64 {
-    t.depth[0] + (y as f64 + 0.5 - t.origin.1) * t.depth[2]
-}
-
-/// `t`'s depth at the centre of column `x` of the row whose [`depth_row`] is `row` (the
-/// definition the passes' stepped and block forms are tested against).
-#[cfg(test)]
-pub(crate) fn depth_at(t: &RasterTri, row: f64, x: i64) -> f64 {
-    depth_at_offset(t, row, x as f64 + 0.5 - t.origin.0)
-}
-
-/// `t`'s depth in the row whose [`depth_row`] is `row`, at the column whose centre is `ox`
-/// from the origin (`x + 0.5 - origin.x`). The origin is a vertex on the 1/256-pixel grid
-/// and columns stay below 2^31, so that offset is exact in f64: a span steps it by adding
-/// 1.0 and gets exactly the next column's.
-#[inline(always)]
-pub(crate) fn depth_at_offset(t: &RasterTri, row: f64, ox: f64) -> f64 {
-    row + ox * t.depth[1]
-}
-
-/// Columns of a block row ([`for_each_row`]): one AVX2 vector of `i32` edge values or `f32`
-/// depths.
-pub(crate) const BLOCK: usize = 8;
-
-/// How a triangle's rows inside a band are visited ([`for_each_row`]).
-pub(crate) trait RowVisit {
-    /// Row `y`'s covered span `[xs, xe)` (not empty).
-    fn span(&mut self, y: i64, xs: i64, xe: i64);
-    /// Row `y`'s covered columns in block `[lo, lo + BLOCK)`, all inside the image: bit `k`
-    /// of `mask` (not zero) for column `lo + k`.
-    fn block(&mut self, y: i64, lo: i64, mask: u32);
-}
-
-/// [`for_each_span`], except that a triangle at most [`BLOCK`] columns wide (clipped), whose
-/// block of `BLOCK` columns fits inside the image, has each row's coverage tested in one
-/// vector of [`BLOCK`] lanes and handed over as a mask ([`RowVisit::block`]). The covered
-/// pixels are the same either way: the same integer edge values, at the same centres.
-#[inline(always)]
-pub(crate) fn for_each_row(t: &RasterTri, width: u32, y0: i64, y1: i64, visit: &mut impl RowVisit) {
-    let (lo, hi) = (t.x0.max(0), t.x1.min(width as i64));
-    let (ylo, yhi) = (t.y0.max(y0), t.y1.min(y1));
-    if lo >= hi || ylo >= yhi {
-        return;
-    }
-    if hi - lo > BLOCK as i64
-        || lo + BLOCK as i64 > i64::from(width)
-        || t.x1 - t.x0 > SMALL_SIDE
-        || t.y1 - t.y0 > SMALL_SIDE
-    {
-        for_each_span(
-            t,
-            width,
-            y0,
-            y1,
-            #[inline(always)]
-            |y, xs, xe| visit.span(y, xs, xe),
-        );
-        return;
-    }
-    // Every edge value inside the box and up to 16 columns right of it fits in i32 (see
-    // SMALL_SIDE); the block reaches at most BLOCK columns right of `lo`.
-    let one = phosphor_math::fixed::SUBPIXEL_ONE;
-    let e = t.edges_at(lo, ylo);
-    let columns = wide::i32x8::new([0, 1, 2, 3, 4, 5, 6, 7]);
-    let ramp = t
-        .edge_a
-        .map(|a| columns * wide::i32x8::splat((a * one) as i32));
-    let down: [i32; 3] = t.edge_b.map(|b| (b * one) as i32);
-    let valid = (1u32 << (hi - lo)) - 1;
-    let mut e_row = e.map(|v| v as i32);
-    for y in ylo..yhi {
-        // Sign bits: 1 where some edge is negative (outside).
-        let v = [0, 1, 2].map(|i| wide::i32x8::splat(e_row[i]) + ramp[i]);
-        let outside = (v[0] | v[1] | v[2]).move_mask() as u32;
-        let inside = !outside & valid;
-        if inside != 0 {
-            visit.block(y, lo, inside);
-        }
-        for i in 0..3 {
-            e_row[i] += down[i];
-        }
-    }
-}
-
-/// The depth test of block row `y` ([`RowVisit::block`]) against `stored` (the row's
-/// `BLOCK` depths from column `lo`): the columns of `mask` that pass, and the depths of all
-/// `BLOCK` columns. The depths are [`depth_at_offset`]'s, the test [`depth_passes`].
-#[inline(always)]
-pub(crate) fn block_depths(
-    t: &RasterTri,
-    y: i64,
-    lo: i64,
-    mask: u32,
-    stored: &[f32; BLOCK],
-) -> (u32, [f64; BLOCK]) {
-    let row = depth_row(t, y);
-    // `(lo + k) as f64` is `lo as f64 + k` exactly (both integers below 2^53).
-    let x = lo as f64;
-    let mut depth = [0.0f64; BLOCK];
-    for (k, d) in depth.iter_mut().enumerate() {
-        *d = depth_at_offset(t, row, x + k as f64 + 0.5 - t.origin.0);
-    }
-    // [`depth_passes`] of each column, its comparisons gathered as one vector's sign bits.
-    let near = wide::f32x8::new(depth.map(|d| d as f32));
-    let pass = wide::CmpLt::cmp_lt(near, wide::f32x8::new(*stored)).move_mask() as u32;
-    (pass & mask, depth)
-}
-
 /// The iteration every pass shares: the rows of `t` inside band rows `[y0, y1)`, its columns
 /// inside `[0, width)`, the edges stepped from the first of those pixels. Calls
 /// `row(y, xs, xe)` for each row with a non-empty span `[xs, xe)`.
@@ -339,93 +225,35 @@ pub fn depth_only(
     extents: &mut [(u32, u32)],
     id: u64,
 ) -> u64 {
-    let mut visit = DepthVisit {
+    let mut written = 0;
+    let width = target.width as usize;
+    let (y0, y1, stored) = (target.y0, target.y1, &mut *target.depth);
+    // Inlined: called once per row, and most triangles have only a few.
+    for_each_span(
         t,
-        width: target.width as usize,
-        y0: target.y0,
-        stored: target.depth,
-        ids,
-        extents,
-        id,
-        written: 0,
-    };
-    for_each_row(t, target.width, target.y0, target.y1, &mut visit);
-    visit.written
-}
-
-/// [`depth_only`]'s rows.
-struct DepthVisit<'v> {
-    t: &'v RasterTri,
-    width: usize,
-    y0: i64,
-    stored: &'v mut [f32],
-    ids: &'v mut [u64],
-    extents: &'v mut [(u32, u32)],
-    id: u64,
-    written: u64,
-}
-
-impl DepthVisit<'_> {
-    /// Row `y`'s extent widened to `[xs, xe)`.
-    #[inline(always)]
-    fn widen(&mut self, y: i64, xs: i64, xe: i64) {
-        if let Some(e) = self.extents.get_mut((y - self.y0) as usize) {
-            *e = (e.0.min(xs as u32), e.1.max(xe as u32));
-        }
-    }
-}
-
-impl RowVisit for DepthVisit<'_> {
-    #[inline(always)]
-    fn span(&mut self, y: i64, xs: i64, xe: i64) {
-        let t = self.t;
-        let row_depth = depth_row(t, y);
-        let before = self.written;
-        let row = ((y - self.y0) as usize) * self.width;
-        let mut column = xs as f64 + 0.5 - t.origin.0;
-        for x in xs..xe {
-            let idx = row + x as usize;
-            let depth = depth_at_offset(t, row_depth, column);
-            column += 1.0;
-            if depth_passes(depth, self.stored[idx]) {
-                self.stored[idx] = depth_stored(depth);
-                self.ids[idx] = self.id;
-                self.written += 1;
+        target.width,
+        y0,
+        y1,
+        #[inline(always)]
+        |y, xs, xe| {
+            let (ox, oy) = (xs as f64 + 0.5 - t.origin.0, y as f64 + 0.5 - t.origin.1);
+            let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
+            let before = written;
+            let row = ((y - y0) as usize) * width;
+            for idx in row + xs as usize..row + xe as usize {
+                if depth_passes(depth, stored[idx]) {
+                    stored[idx] = depth_stored(depth);
+                    ids[idx] = id;
+                    written += 1;
+                }
+                depth += t.depth[1];
             }
-        }
-        if self.written > before {
-            self.widen(y, xs, xe);
-        }
-    }
-
-    #[inline(always)]
-    fn block(&mut self, y: i64, lo: i64, mask: u32) {
-        let at = ((y - self.y0) as usize) * self.width + lo as usize;
-        let Some(stored) = self
-            .stored
-            .get_mut(at..at + BLOCK)
-            .and_then(|s| <&mut [f32; BLOCK]>::try_from(s).ok())
-        else {
-            return;
-        };
-        let (mut drawn, depth) = block_depths(self.t, y, lo, mask, stored);
-        if drawn == 0 {
-            return;
-        }
-        self.written += u64::from(drawn.count_ones());
-        while drawn != 0 {
-            let k = drawn.trailing_zeros() as usize;
-            stored[k] = depth_stored(depth[k]);
-            if let Some(id) = self.ids.get_mut(at + k) {
-                *id = self.id;
+            if written > before {
+                if let Some(e) = extents.get_mut((y - y0) as usize) {
+                    *e = (e.0.min(xs as u32), e.1.max(xe as u32));
+                }
             }
-            drawn &= drawn - 1;
-        }
-        // The covered span, as the span path widens it.
-        let (xs, xe) = (
-            lo + i64::from(mask.trailing_zeros()),
-            lo + 32 - i64::from(mask.leading_zeros()),
-        );
-        self.widen(y, xs, xe);
-    }
+        },
+    );
+    written
 }

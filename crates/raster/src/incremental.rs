@@ -7,9 +7,7 @@
 //! pixel, all in `f32`, as a 1970s implementation would hold them.
 
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::coverage::{
-    BandTarget, Pass, depth_at_offset, depth_row, depth_stored, for_each_span, pixel_drawn,
-};
+use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, pixel_drawn};
 use crate::setup::RasterTri;
 use crate::traverse::SpanShade;
 
@@ -164,15 +162,13 @@ fn incremental_impl<K: SpanShade, const VISIBLE: bool>(
             dv[k] = if d.is_finite() { d } else { 0.0 };
             v[k] += offset * dv[k];
         }
-        let row_depth = depth_row(t, y);
-        let mut column = xs as f64 + 0.5 - t.origin.0;
+        let (ox, oy) = (xs as f64 + 0.5 - t.origin.0, y as f64 + 0.5 - t.origin.1);
+        let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
         let mut state = shade.span(xs as f64 + 0.5, y as f64 + 0.5);
         let row = ((y - y0) as usize) * width as usize;
         let mut out: Attrs = [0.0; MAX_ATTRS];
         for x in xs..xe {
             let idx = row + x as usize;
-            let depth = depth_at_offset(t, row_depth, column);
-            column += 1.0;
             let draw = pixel_drawn::<VISIBLE>(target, idx, id, depth);
             if draw {
                 let w = if perspective && v[n] != 0.0 {
@@ -191,6 +187,7 @@ fn incremental_impl<K: SpanShade, const VISIBLE: bool>(
                 }
                 shaded += 1;
             }
+            depth += t.depth[1];
             for k in 0..=n {
                 v[k] += dv[k];
             }

@@ -10,10 +10,6 @@ use crate::clip::Attrs;
 pub(crate) trait SpanShade {
     /// Attributes read (a prefix of [`Attrs`]).
     const ATTRS: usize;
-    /// Whether every pixel gets the same from [`SpanShade::pixel`] whatever its attributes
-    /// and span state (a constant colour, or nothing): a full pass may then depth-test a small
-    /// triangle's rows a block of pixels at a time.
-    const UNIFORM: bool = false;
     /// Per-span state.
     type Span;
     /// State at the first pixel of a span whose centre is `(x, y)` in pixels.

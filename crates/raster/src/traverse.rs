@@ -17,10 +17,7 @@ use phosphor_lighting::F32x1;
 
 use crate::batch::{Pending, shade4};
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::coverage::{
-    BLOCK, BandTarget, Pass, RowVisit, block_depths, depth_at_offset, depth_row, depth_stored,
-    for_each_row, for_each_span, lanes, pixel_drawn,
-};
+use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, lanes, pixel_drawn};
 use crate::framebuffer::clamp_color_to;
 use crate::setup::RasterTri;
 use crate::shader::{Shader, Varyings, interpolated};
@@ -32,7 +29,6 @@ pub(crate) struct Solid(pub Vec3);
 
 impl SpanShade for Solid {
     const ATTRS: usize = 0;
-    const UNIFORM: bool = true;
     type Span = ();
     #[inline(always)]
     fn span(&self, _: f64, _: f64) {}
@@ -49,7 +45,6 @@ pub(crate) struct DepthOnly;
 
 impl SpanShade for DepthOnly {
     const ATTRS: usize = 0;
-    const UNIFORM: bool = true;
     type Span = ();
     #[inline(always)]
     fn span(&self, _: f64, _: f64) {}
@@ -178,18 +173,8 @@ fn traverse_impl<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     shade: &mut T,
     target: &mut BandTarget,
 ) -> u64 {
-    let (width, y0, y1) = (target.width, target.y0, target.y1);
-    if T::UNIFORM && !VISIBLE && !target.count {
-        let mut visit = UniformVisit {
-            t,
-            shade,
-            target,
-            shaded: 0,
-        };
-        for_each_row(t, width, y0, y1, &mut visit);
-        return visit.shaded;
-    }
     let mut shaded = 0;
+    let (width, y0, y1) = (target.width, target.y0, target.y1);
     for_each_span(
         t,
         width,
@@ -201,51 +186,6 @@ fn traverse_impl<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
         },
     );
     shaded
-}
-
-/// The rows of a full pass with a [`SpanShade::UNIFORM`] shade: a small triangle's rows are
-/// depth-tested a block at a time ([`block_depths`]), the others span by span.
-struct UniformVisit<'v, 'b, T> {
-    t: &'v RasterTri,
-    shade: &'v mut T,
-    target: &'v mut BandTarget<'b>,
-    shaded: u64,
-}
-
-impl<T: SpanShade> RowVisit for UniformVisit<'_, '_, T> {
-    #[inline(always)]
-    fn span(&mut self, y: i64, xs: i64, xe: i64) {
-        self.shaded += span::<T, false, false>(self.t, self.shade, self.target, y, xs, xe);
-    }
-
-    #[inline(always)]
-    fn block(&mut self, y: i64, lo: i64, mask: u32) {
-        let BandTarget {
-            color,
-            depth: stored,
-            width,
-            y0,
-            ..
-        } = &mut *self.target;
-        let at = ((y - *y0) as usize) * *width as usize + lo as usize;
-        let Some(stored) = stored
-            .get_mut(at..at + BLOCK)
-            .and_then(|s| <&mut [f32; BLOCK]>::try_from(s).ok())
-        else {
-            return;
-        };
-        let (mut drawn, depth) = block_depths(self.t, y, lo, mask, stored);
-        self.shaded += u64::from(drawn.count_ones());
-        let state = self.shade.span(lo as f64 + 0.5, y as f64 + 0.5);
-        let none = [0.0; MAX_ATTRS];
-        while drawn != 0 {
-            let k = drawn.trailing_zeros() as usize;
-            stored[k] = depth_stored(depth[k]);
-            self.shade
-                .pixel(&state, at + k, (&none, 1.0), (lo + k as i64, y), color);
-            drawn &= drawn - 1;
-        }
-    }
 }
 
 /// One span of `t`: the attribute lanes are stepped whole ([`lanes`]).
@@ -263,8 +203,7 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let xc = x_start as f64 + 0.5;
     let yc = y as f64 + 0.5;
     let (ox, oy) = (xc - t.origin.0, yc - t.origin.1);
-    let row_depth = depth_row(t, y);
-    let mut column = ox;
+    let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
     let (mut inv_w, mut attrs) =
         planes_at(&t.inv_w, [&t.attr0, &t.attr_dx, &t.attr_dy], (ox, oy), n);
     let mut state = shade.span(xc, yc);
@@ -276,7 +215,6 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let mut shaded = 0;
     for x in x_start..x_end {
         let idx = row + x as usize;
-        let depth = depth_at_offset(t, row_depth, column);
         if pixel_drawn::<VISIBLE>(target, idx, id, depth) {
             let w = if PERSPECTIVE && n > 0 {
                 (1.0 / inv_w) as f32
@@ -289,7 +227,7 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
             }
             shaded += 1;
         }
-        column += 1.0;
+        depth += t.depth[1];
         if PERSPECTIVE && n > 0 {
             inv_w += t.inv_w[1];
         }

@@ -27,7 +27,7 @@ fn vertex(x: f64, y: f64, i: f32) -> ScreenVertex {
     vertex_at_depth(x, y, i, 0.5)
 }
 
-pub(super) fn vertex_at_depth(x: f64, y: f64, i: f32, depth: f64) -> ScreenVertex {
+fn vertex_at_depth(x: f64, y: f64, i: f32, depth: f64) -> ScreenVertex {
     let mut attrs = [0.0; MAX_ATTRS];
     attrs[0] = i;
     let (fx, fy) = ((x * 256.0).round() as i64, (y * 256.0).round() as i64);
