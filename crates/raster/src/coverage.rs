@@ -17,8 +17,8 @@ use glam::Vec3;
 use crate::clip::MAX_ATTRS;
 use crate::setup::RasterTri;
 
-/// Small boxes at most this wide find their spans by testing the edges at every pixel, four at
-/// a time; others solve each edge for the span ends (one division per edge and row).
+/// Small boxes at most this wide find their spans by testing the edges at every pixel, eight
+/// at a time; others solve each edge for the span ends (one division per edge and row).
 const STEP_WIDTH: i64 = 16;
 /// What a traversal does at a covered pixel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -128,35 +128,16 @@ pub(crate) fn for_each_span(
     let e = t.edges_at(lo, ylo);
     if hi - lo <= STEP_WIDTH && t.x1 - t.x0 <= SMALL_SIDE && t.y1 - t.y0 <= SMALL_SIDE {
         // A small triangle: every edge value inside its box (and up to 16 columns right of
-        // it) fits in i32 (see SMALL_SIDE). Each row tests four pixels per step with no branch
-        // per pixel: a bit per covered pixel, and the span is the run of set bits.
-        let lanes = wide::i32x4::new([0, 1, 2, 3]);
+        // it) fits in i32 (see SMALL_SIDE). Each row tests its pixels as one or two vectors of
+        // eight per edge, kept in registers from row to row, with no branch per pixel: a bit
+        // per covered pixel, and the span is the run of set bits.
+        let e = e.map(|v| v as i32);
         let col: [i32; 3] = t.edge_a.map(|a| (a * one) as i32);
         let down: [i32; 3] = t.edge_b.map(|b| (b * one) as i32);
-        let ramp = col.map(|c| lanes * wide::i32x4::splat(c));
-        let four = col.map(|c| wide::i32x4::splat(4 * c));
-        let steps = (hi - lo + 3) / 4;
-        let valid = (1u32 << (hi - lo)) - 1;
-        let mut e_row = e.map(|v| v as i32);
-        for y in ylo..yhi {
-            let mut v = [0, 1, 2].map(|i| wide::i32x4::splat(e_row[i]) + ramp[i]);
-            let mut outside = 0u32;
-            for k in 0..steps {
-                // Sign bits: 1 where some edge is negative (outside).
-                outside |= ((v[0] | v[1] | v[2]).move_mask() as u32) << (4 * k);
-                for i in 0..3 {
-                    v[i] += four[i];
-                }
-            }
-            let inside = !outside & valid;
-            if inside != 0 {
-                let xs = lo + i64::from(inside.trailing_zeros());
-                let xe = lo + 32 - i64::from(inside.leading_zeros());
-                row(y, xs, xe);
-            }
-            for i in 0..3 {
-                e_row[i] += down[i];
-            }
+        if hi - lo <= 8 {
+            small_rows::<1>((e, col, down), (lo, hi), (ylo, yhi), row);
+        } else {
+            small_rows::<2>((e, col, down), (lo, hi), (ylo, yhi), row);
         }
         return;
     }
@@ -170,6 +151,44 @@ pub(crate) fn for_each_span(
         }
         for i in 0..3 {
             e_row[i] += down[i];
+        }
+    }
+}
+
+/// [`for_each_span`]'s rows of a small triangle at most `8 * V` columns wide (`hi - lo`),
+/// whose edges are `e` at `(lo, ylo)` and step by `col` per column and `down` per row, all in
+/// i32: per edge `V` vectors of eight columns, stepped down a row by one add each.
+#[inline(always)]
+fn small_rows<const V: usize>(
+    (e, col, down): ([i32; 3], [i32; 3], [i32; 3]),
+    (lo, hi): (i64, i64),
+    (ylo, yhi): (i64, i64),
+    mut row: impl FnMut(i64, i64, i64),
+) {
+    use wide::i32x8;
+    let lanes = i32x8::new([0, 1, 2, 3, 4, 5, 6, 7]);
+    // v[i][j]: edge i at columns lo + 8 j .. lo + 8 j + 8 of the current row.
+    let mut v: [[i32x8; V]; 3] = std::array::from_fn(|i| {
+        std::array::from_fn(|j| i32x8::splat(e[i] + 8 * j as i32 * col[i]) + lanes * col[i])
+    });
+    let step = down.map(i32x8::splat);
+    let valid = (1u32 << (hi - lo)) - 1;
+    for y in ylo..yhi {
+        // Sign bits: 1 where some edge is negative (outside).
+        let mut outside = 0u32;
+        for j in 0..V {
+            outside |= ((v[0][j] | v[1][j] | v[2][j]).move_mask() as u32) << (8 * j);
+        }
+        let inside = !outside & valid;
+        if inside != 0 {
+            let xs = lo + i64::from(inside.trailing_zeros());
+            let xe = lo + 32 - i64::from(inside.leading_zeros());
+            row(y, xs, xe);
+        }
+        for i in 0..3 {
+            for j in 0..V {
+                v[i][j] += step[i];
+            }
         }
     }
 }
