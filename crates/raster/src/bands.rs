@@ -16,7 +16,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::coverage::BandTarget;
-use crate::framebuffer::{Framebuffer, clear_rows, mark_dirty, same_color};
+use crate::framebuffer::{Framebuffer, clear_rows, same_color};
 use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
@@ -61,9 +61,9 @@ pub(crate) fn draw_bands<S: Shader>(
         }
         let y0 = b as i64 * band_rows as i64;
         let in_band: usize = input.records(b).map(|(_, r)| r.len()).sum();
-        let mut target = BandTarget::new(color, depth, width, y0, count);
+        let target = BandTarget::new(color, depth, width, y0, count);
         if one_pass || count || in_band < 2 {
-            return draw_single(input, b, &mut target, dirty);
+            return draw_single(input, b, &mut target.with_dirty(dirty));
         }
         draw_two_pass(input, b, target, dirty, block)
     };
@@ -93,24 +93,14 @@ const fn one_pass<S: Shader>() -> bool {
 }
 
 /// Band `b` in one pass: each triangle depth-tested, shaded and written in turn. Widens the
-/// band's `dirty` columns by every triangle's box. Returns the pixels shaded.
-fn draw_single<S: Shader>(
-    input: &BandInput<S>,
-    b: usize,
-    target: &mut BandTarget,
-    dirty: &mut [(u32, u32)],
-) -> u64 {
+/// target's dirty columns by every span drawn. Returns the pixels shaded.
+fn draw_single<S: Shader>(input: &BandInput<S>, b: usize, target: &mut BandTarget) -> u64 {
     // Two-pass shaders come here only for bands of one record: not worth a second copy.
     #[cfg(target_arch = "x86_64")]
     if let (true, Some(avx2)) = (one_pass::<S>(), input.wide.avx2) {
-        return avx2.run(SingleRun {
-            input,
-            b,
-            target,
-            dirty,
-        });
+        return avx2.run(SingleRun { input, b, target });
     }
-    single_loop::<S, false>(input, b, target, dirty)
+    single_loop::<S, false>(input, b, target)
 }
 
 /// [`draw_single`]'s loop over the records; `INLINE`: with the traversal inlined
@@ -120,9 +110,8 @@ fn single_loop<S: Shader, const INLINE: bool>(
     input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
-    dirty: &mut [(u32, u32)],
 ) -> u64 {
-    let (n, width, y0) = (S::VARYINGS, target.width, target.y0);
+    let n = S::VARYINGS;
     let n = if S::FACE == Face::Constant { 0 } else { n };
     let mut t = RasterTri::empty();
     let mut batched = input.batched();
@@ -131,8 +120,6 @@ fn single_loop<S: Shader, const INLINE: bool>(
         for (i, r) in recs.iter().enumerate() {
             sink ^= input.touch(recs.get(i + AHEAD), n);
             if input.setup(&mut t, c, r, n) {
-                // A shader writes only inside the triangle's pixel box.
-                mark_dirty(dirty, y0, (t.y0, t.y1), (t.x0, t.x1), width);
                 shaded += input.draw::<INLINE>(&t, (c, r), target, &mut batched);
             }
         }
@@ -148,7 +135,6 @@ struct SingleRun<'p, 'a, 't, S: Shader> {
     input: &'p BandInput<'a, S>,
     b: usize,
     target: &'p mut BandTarget<'t>,
-    dirty: &'p mut [(u32, u32)],
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -156,6 +142,6 @@ impl<S: Shader> phosphor_lighting::Avx2Task for SingleRun<'_, '_, '_, S> {
     type Output = u64;
     #[inline(always)]
     fn run(self, _: phosphor_lighting::Avx2) -> u64 {
-        single_loop::<S, true>(self.input, self.b, self.target, self.dirty)
+        single_loop::<S, true>(self.input, self.b, self.target)
     }
 }

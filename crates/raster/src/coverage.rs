@@ -49,6 +49,10 @@ pub struct BandTarget<'a> {
     /// The nearest triangle's id per pixel of the band, from the depth pass (empty for
     /// [`Pass::Full`]).
     pub ids: &'a [u64],
+    /// Per row of the band, the columns `[lo, hi)` written since the last clear, widened by
+    /// every span traversed ([`BandTarget::mark_span`]); empty when the caller keeps that
+    /// record itself (the two-pass bands widen it from the depth pass's extents).
+    pub dirty: &'a mut [(u32, u32)],
 }
 
 impl<'a> BandTarget<'a> {
@@ -72,6 +76,24 @@ impl<'a> BandTarget<'a> {
             count,
             pass: Pass::Full,
             ids: &[],
+            dirty: &mut [],
+        }
+    }
+
+    /// The same band, its spans widening `dirty` (one entry per row of the band).
+    #[must_use]
+    pub fn with_dirty(self, dirty: &'a mut [(u32, u32)]) -> BandTarget<'a> {
+        BandTarget { dirty, ..self }
+    }
+
+    /// Widens row `y`'s dirty columns to the span `[xs, xe)` (`0 <= xs < xe <= width`, as
+    /// [`for_each_span`] gives them): a pixel is written only inside a span, so the union of
+    /// the spans is what the next clear and the readout must cover. Per span rather than per
+    /// triangle box, as the spans are already at hand and a box is updated row by row anyway.
+    #[inline(always)]
+    pub fn mark_span(&mut self, y: i64, xs: i64, xe: i64) {
+        if let Some(e) = self.dirty.get_mut((y - self.y0) as usize) {
+            *e = (e.0.min(xs as u32), e.1.max(xe as u32));
         }
     }
 }

@@ -53,7 +53,7 @@ pub struct Framebuffer {
     /// dirty columns: a frame of a small object no longer pays for rewriting the whole image.
     pub(crate) clean: Option<Vec3>,
     /// Per row, the columns `[lo, hi)` written since the last clear ([`CLEAN_ROW`] for none).
-    /// Only the band jobs write pixels, and they widen this to each triangle's pixel box.
+    /// Only the band jobs write pixels, and they widen this to each span they draw.
     pub(crate) dirty: Vec<(u32, u32)>,
     /// The sample image of the last anti-aliased frame ([`crate::Antialias`]), kept so that
     /// the next frame of the same size and choice reuses it instead of allocating again.
@@ -358,26 +358,6 @@ pub(crate) fn clear_rows(
         }
     }
     dirty.fill(CLEAN_ROW);
-}
-
-/// Widens the dirty extents of a band (`dirty[0]` is row `y0`) to columns `[x0, x1)` of rows
-/// `[ya, yb)` (image coordinates, clipped here to the band and `[0, width)`).
-#[inline]
-pub(crate) fn mark_dirty(
-    dirty: &mut [(u32, u32)],
-    y0: i64,
-    (ya, yb): (i64, i64),
-    (x0, x1): (i64, i64),
-    width: u32,
-) {
-    let (x0, x1) = (x0.max(0), x1.min(i64::from(width)));
-    let (ya, yb) = ((ya - y0).max(0), (yb - y0).min(dirty.len() as i64));
-    if x0 >= x1 || ya >= yb {
-        return;
-    }
-    for e in &mut dirty[ya as usize..yb as usize] {
-        *e = (e.0.min(x0 as u32), e.1.max(x1 as u32));
-    }
 }
 
 /// Clears rows: `color` to `bg`, `depth` to the far plane. Colours are written four at a time

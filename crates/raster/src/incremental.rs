@@ -125,6 +125,7 @@ fn incremental_impl<K: SpanShade, const VISIBLE: bool>(
     };
     let mut shaded = 0;
     for_each_span(t, width, y0, y1, |y, xs, xe| {
+        target.mark_span(y, xs, xe);
         // Step the walkers down to this row (rows above the band included).
         while walked < y {
             long.step(n);

@@ -182,6 +182,7 @@ fn traverse_impl<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
         y1,
         #[inline(always)]
         |y, xs, xe| {
+            target.mark_span(y, xs, xe);
             shaded += span::<T, PERSPECTIVE, VISIBLE>(t, shade, target, y, xs, xe);
         },
     );

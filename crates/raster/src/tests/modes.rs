@@ -769,3 +769,63 @@ fn gouraud_without_the_vertex_clamp_interpolates_the_models_values() {
     );
     assert!(same > brighter, "{same} pixels agree");
 }
+
+/// A framebuffer drawn frame after frame, each clear rewriting only the columns the last frame
+/// wrote, ends every frame with the colours and depths of a fresh one: objects that move, grow,
+/// leave the image and come back, in a one-pass mode, a two-pass mode and the incremental
+/// scan line, with and without multisampling, on one and on several threads.
+#[test]
+fn frames_drawn_over_the_last_match_a_fresh_framebuffer() {
+    use crate::{Antialias, Interpolation};
+
+    let cam = Camera::s1();
+    let (w, h) = (61, 43);
+    let sphere = uv_sphere(0.35, 12, 8);
+    let material = Material::s1();
+    let lights = s1_lights();
+    let places = [
+        (Vec3::new(0.0, 0.0, 0.0), 1.0),
+        (Vec3::new(0.6, 0.2, 0.0), 0.5),
+        (Vec3::new(-0.9, -0.5, 0.3), 1.5),
+        (Vec3::new(5.0, 0.0, 0.0), 1.0),
+        (Vec3::new(0.1, 0.7, -0.4), 0.3),
+        (Vec3::new(0.0, 0.0, 0.0), 2.5),
+    ];
+    for (mode, interpolation) in [
+        (ShadingMode::Flat, Interpolation::Plane),
+        (ShadingMode::Gouraud, Interpolation::Incremental),
+        (ShadingMode::Phong, Interpolation::Plane),
+    ] {
+        for antialias in [Antialias::Off, Antialias::Msaa4] {
+            for threads in [1, 3] {
+                let opts = RenderOptions {
+                    threads,
+                    antialias,
+                    interpolation,
+                    background: Vec3::new(0.1, 0.2, 0.3),
+                    ..RenderOptions::default()
+                };
+                let mut kept = Framebuffer::new(w, h).unwrap();
+                for (k, &(at, scale)) in places.iter().enumerate() {
+                    let mut d = item(&sphere, &material, &lights, mode);
+                    d.model = Mat4::from_translation(at) * Mat4::from_scale(Vec3::splat(scale));
+                    // Two draws, the second over the first, as a scene draws its objects.
+                    let mut e = d;
+                    e.model = Mat4::from_translation(at + Vec3::new(0.2, -0.1, 0.3)) * d.model;
+                    let draws = [d, e];
+                    render(&mut kept, &cam, &draws, &opts);
+                    let mut fresh = Framebuffer::new(w, h).unwrap();
+                    render(&mut fresh, &cam, &draws, &opts);
+                    let what = format!("{mode:?} {interpolation:?} {antialias} x{threads} frame {k}");
+                    assert_eq!(kept.color(), fresh.color(), "{what}: colours");
+                    for y in 0..h {
+                        for x in 0..w {
+                            let (a, b) = (kept.depth_at(x, y), fresh.depth_at(x, y));
+                            assert_eq!(a.to_bits(), b.to_bits(), "{what}: depth at ({x}, {y})");
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
