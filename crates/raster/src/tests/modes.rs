@@ -816,7 +816,8 @@ fn frames_drawn_over_the_last_match_a_fresh_framebuffer() {
                     render(&mut kept, &cam, &draws, &opts);
                     let mut fresh = Framebuffer::new(w, h).unwrap();
                     render(&mut fresh, &cam, &draws, &opts);
-                    let what = format!("{mode:?} {interpolation:?} {antialias} x{threads} frame {k}");
+                    let what =
+                        format!("{mode:?} {interpolation:?} {antialias} x{threads} frame {k}");
                     assert_eq!(kept.color(), fresh.color(), "{what}: colours");
                     for y in 0..h {
                         for x in 0..w {
