@@ -61,11 +61,11 @@ pub(crate) fn draw_bands<S: Shader>(
         }
         let y0 = b as i64 * band_rows as i64;
         let in_band: usize = input.records(b).map(|(_, r)| r.len()).sum();
-        let target = BandTarget::new(color, depth, width, y0, count);
+        let mut target = BandTarget::new(color, depth, width, y0, count).with_dirty(dirty);
         if one_pass || count || in_band < 2 {
-            return draw_single(input, b, &mut target.with_dirty(dirty));
+            return draw_single(input, b, &mut target);
         }
-        draw_two_pass(input, b, target, dirty, block)
+        draw_two_pass(input, b, target, block)
     };
     let threads = effective_threads(threads);
     match (threads > 1).then(|| pool(threads)).flatten() {

@@ -50,8 +50,8 @@ pub struct BandTarget<'a> {
     /// [`Pass::Full`]).
     pub ids: &'a [u64],
     /// Per row of the band, the columns `[lo, hi)` written since the last clear, widened by
-    /// every span traversed ([`BandTarget::mark_span`]); empty when the caller keeps that
-    /// record itself (the two-pass bands widen it from the depth pass's extents).
+    /// every span traversed ([`BandTarget::mark_span`]); empty when nothing is to be marked
+    /// (the two-pass bands take it and widen it from the depth pass's extents).
     pub dirty: &'a mut [(u32, u32)],
 }
 

@@ -50,18 +50,18 @@ thread_local! {
 }
 
 /// Band `b` in two passes: the depth pass, then the by-pixel pass and/or the visible pass
-/// over the triangles that own a pixel, with this thread's scratch. Widens the band's `dirty`
-/// columns by what the depth pass wrote. Returns the pixels shaded.
+/// over the triangles that own a pixel, with this thread's scratch. Widens the target's dirty
+/// columns by what the depth pass wrote (its spans are not marked one by one). Returns the
+/// pixels shaded.
 pub(crate) fn draw_two_pass<S: Shader>(
     input: &BandInput<S>,
     b: usize,
     target: BandTarget,
-    dirty: &mut [(u32, u32)],
     block: u32,
 ) -> u64 {
     SCRATCH.with(|scratch| {
         let scratch = &mut *scratch.borrow_mut();
-        two_pass(input, b, target, dirty, scratch, block)
+        two_pass(input, b, target, scratch, block)
     })
 }
 
@@ -70,10 +70,11 @@ fn two_pass<'s, S: Shader>(
     input: &BandInput<S>,
     b: usize,
     mut target: BandTarget<'s>,
-    dirty: &mut [(u32, u32)],
     scratch: &'s mut Scratch,
     block: u32,
 ) -> u64 {
+    // The depth pass records the columns it writes; the shading passes write only there.
+    let dirty = std::mem::take(&mut target.dirty);
     let width = target.width as usize;
     if scratch.ids.len() < target.color.len() {
         scratch.ids.resize(target.color.len(), 0);
