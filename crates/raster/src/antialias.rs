@@ -11,7 +11,9 @@
 //!   centroid (the pixel centre when it owns them all, always a point inside the triangle, so
 //!   attributes are never extrapolated) and the colour is written to each of them. Only pixels
 //!   on an edge are shaded more than once, so the shading cost grows with the edges, not with
-//!   the samples; coverage and depth still cost `k * k` times. Modes that shade during
+//!   the samples; coverage and depth still cost `k * k` times. A pixel whose samples all show
+//!   one colour keeps it once, in a layer of one colour per pixel beside the samples: its
+//!   samples' colours are neither written, cleared nor averaged, and the resolve copies it. Modes that shade during
 //!   traversal (`flat`, `gouraud`, `reference`, the incremental interpolation) shade each
 //!   sample: for flat and Gouraud a sample's colour is one plane step, as cheap as its
 //!   coverage test, and `reference` is the per-sample truth the others are measured against.
@@ -25,6 +27,7 @@ use std::str::FromStr;
 
 use glam::Vec3;
 
+use crate::framebuffer::layer::WHOLE;
 use crate::framebuffer::{CLEAN_ROW, Framebuffer, MAX_SIDE, fill_rows, same_color};
 
 /// How edges are anti-aliased; names as used by the CLI and scene files.
@@ -200,11 +203,17 @@ pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, thre
                 if lo < hi {
                     let rows = &samples.color[y * k * width * k..(y + 1) * k * width * k];
                     let depths = &samples.depth[y * k * width * k..(y + 1) * k * width * k];
+                    // The pixel layer's row, when the image has one of `k x k` samples.
+                    let layer = samples.layer.as_ref().filter(|l| l.k == k).map(|l| {
+                        let at = y * width..(y + 1) * width;
+                        (&l.color[at.clone()], &l.split[at])
+                    });
                     let (color, depth) = (&mut color[lo..hi], &mut depth[lo..hi]);
+                    let src = (rows, depths, layer);
                     match k {
-                        2 => resolve_row::<2>(rows, depths, width, lo, color, depth),
-                        4 => resolve_row::<4>(rows, depths, width, lo, color, depth),
-                        _ => resolve_row::<1>(rows, depths, width, lo, color, depth),
+                        2 => resolve_row::<2>(src, width, lo, color, depth),
+                        4 => resolve_row::<4>(src, width, lo, color, depth),
+                        _ => resolve_row::<1>(src, width, lo, color, depth),
                     }
                 }
             }
@@ -216,43 +225,68 @@ pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, thre
     out.dirty = drawn;
 }
 
-/// Filters output pixels `lo..lo + color.len()` of one row from its `K` rows of samples
-/// (`width * K` samples each). The sums are pairwise (the same tree for every pixel), so that
-/// `K x K` equal samples give that value back exactly.
+/// One output row's samples: `K` rows of colours and of depths (`width * K` samples each),
+/// and the row of the image's pixel layer (colours, split marks), if it has one.
+type RowSamples<'a> = (&'a [Vec3], &'a [f32], Option<(&'a [Vec3], &'a [u8])>);
+
+/// Filters output pixels `lo..lo + color.len()` of one row from its `K` rows of samples. The
+/// sums are pairwise (the same tree for every pixel), so that `K x K` equal samples give that
+/// value back exactly: a pixel the layer holds whole takes the layer's colour, which is what
+/// its samples would sum to.
 #[inline(always)]
 fn resolve_row<const K: usize>(
-    rows: &[Vec3],
-    depths: &[f32],
+    (rows, depths, layer): RowSamples,
     width: usize,
     lo: usize,
     color: &mut [Vec3],
     depth: &mut [f32],
 ) {
     let stride = width * K;
-    let scale = 1.0 / (K * K) as f32;
     for (i, (c, d)) in color.iter_mut().zip(depth.iter_mut()).enumerate() {
         let x = (lo + i) * K;
-        let mut sums = [Vec3::ZERO; 16];
-        let mut nearest = f32::INFINITY;
-        for sy in 0..K {
-            let at = sy * stride + x;
-            for sx in 0..K {
-                sums[sy * K + sx] = rows[at + sx];
-                nearest = nearest.min(depths[at + sx]);
-            }
-        }
-        let mut n = K * K;
-        while n > 1 {
-            n /= 2;
-            for j in 0..n {
-                sums[j] = sums[2 * j] + sums[2 * j + 1];
-            }
-        }
-        // Samples are clamped to [0, 1] (or [0, HDR_MAX]), so their mean is too, and the sum of
-        // 16 of them is finite.
-        *c = sums[0] * scale;
-        *d = nearest;
+        let whole = layer.and_then(|(colors, split)| {
+            (split.get(lo + i) == Some(&WHOLE)).then(|| colors.get(lo + i).copied())
+        });
+        (*c, *d) = match whole.flatten() {
+            Some(whole) => (whole, filter_pixel::<K, false>(rows, depths, stride, x).1),
+            None => filter_pixel::<K, true>(rows, depths, stride, x),
+        };
     }
+}
+
+/// The mean colour (with `COLOR`; else zero) and the nearest depth of the `K x K` samples whose
+/// first is `x`, in rows `stride` long.
+#[inline(always)]
+fn filter_pixel<const K: usize, const COLOR: bool>(
+    rows: &[Vec3],
+    depths: &[f32],
+    stride: usize,
+    x: usize,
+) -> (Vec3, f32) {
+    let mut sums = [Vec3::ZERO; 16];
+    let mut nearest = f32::INFINITY;
+    for sy in 0..K {
+        let at = sy * stride + x;
+        for sx in 0..K {
+            if COLOR {
+                sums[sy * K + sx] = rows[at + sx];
+            }
+            nearest = nearest.min(depths[at + sx]);
+        }
+    }
+    if !COLOR {
+        return (Vec3::ZERO, nearest);
+    }
+    let mut n = K * K;
+    while n > 1 {
+        n /= 2;
+        for j in 0..n {
+            sums[j] = sums[2 * j] + sums[2 * j + 1];
+        }
+    }
+    // Samples are clamped to [0, 1] (or [0, HDR_MAX]), so their mean is too, and the sum of
+    // 16 of them is finite.
+    (sums[0] * (1.0 / (K * K) as f32), nearest)
 }
 
 #[cfg(test)]

@@ -16,13 +16,14 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::coverage::BandTarget;
+use crate::framebuffer::layer::LayerRows;
 use crate::framebuffer::{Framebuffer, clear_rows, same_color};
 use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
 use crate::shader::{Face, Shader};
 use crate::two_pass::draw_two_pass;
-use crate::viewport::band_rows;
+use crate::viewport::{BAND_ROWS, band_rows};
 
 /// Draws `input` into `fb` over bands on `threads`. With `block > 1` the image holds samples,
 /// `block x block` per pixel, and the by-pixel pass shades each triangle once per pixel
@@ -44,42 +45,93 @@ pub(crate) fn draw_bands<S: Shader>(
     if clear.is_some() {
         fb.clean = clear;
     }
+    // A multisampled image keeps whole pixels' colours in its pixel layer.
+    let layered = block > 1 && !count && !input.depth_only && !layerless();
+    fb.set_layer(if layered { block } else { 1 });
     let one_pass = one_pass::<S>();
     let (color, depth, dirty) = (&mut fb.color, &mut fb.depth, &mut fb.dirty);
-    type Rows<'a> = ((&'a mut [Vec3], &'a mut [f32]), &'a mut [(u32, u32)]);
-    let run = |(b, ((color, depth), dirty)): (usize, Rows)| -> u64 {
+    let mut layers = fb.layer.as_mut().map(|l| l.bands(BAND_ROWS as usize));
+    let bands: Vec<Rows> = color
+        .chunks_mut(chunk)
+        .zip(depth.chunks_mut(chunk))
+        .zip(dirty.chunks_mut(band_rows as usize))
+        .map(|((color, depth), dirty)| Rows {
+            color,
+            depth,
+            dirty,
+            layer: layers.as_mut().and_then(Iterator::next),
+        })
+        .collect();
+    let run = |(b, rows): (usize, Rows)| -> u64 {
+        let Rows {
+            color,
+            depth,
+            dirty,
+            mut layer,
+        } = rows;
         if let Some(bg) = clear {
             // The frame's clear, deferred to here: each band clears its rows in parallel,
             // just before drawing them (they stay in cache). A depth-only draw never wrote
-            // the colour, so it keeps its last clear.
-            let shown: &mut [Vec3] = if input.depth_only {
+            // the colour, so it keeps its last clear; a layered image's samples hold no
+            // colour until their pixel is split.
+            let shown: &mut [Vec3] = if input.depth_only || layer.is_some() {
                 &mut []
             } else {
                 &mut *color
             };
+            if let Some(layer) = &mut layer {
+                layer.clear(bg, only_dirty.then_some(&*dirty));
+            }
             clear_rows((shown, &mut *depth, &mut *dirty), width, bg, only_dirty);
         }
         let y0 = b as i64 * band_rows as i64;
         let in_band: usize = input.records(b).map(|(_, r)| r.len()).sum();
+        if in_band == 0 {
+            return 0;
+        }
+        // A band of one record is not worth a depth pass, except multisampled: one pass
+        // would shade each of its samples, not each pixel once, and split every pixel.
+        let single = one_pass || count || (in_band < 2 && block == 1);
+        if single {
+            if let Some(layer) = &mut layer {
+                layer.split_all(color);
+            }
+        }
         let mut target = BandTarget::new(color, depth, width, y0, count).with_dirty(dirty);
-        if one_pass || count || in_band < 2 {
+        if single {
             return draw_single(input, b, &mut target);
         }
-        draw_two_pass(input, b, target, block)
+        draw_two_pass(input, b, target, block, layer)
     };
     let threads = effective_threads(threads);
     match (threads > 1).then(|| pool(threads)).flatten() {
-        Some(p) => p.install(|| {
-            let jobs = color.par_chunks_mut(chunk).zip(depth.par_chunks_mut(chunk));
-            let jobs = jobs.zip(dirty.par_chunks_mut(band_rows as usize));
-            jobs.enumerate().map(run).sum()
-        }),
-        None => {
-            let jobs = color.chunks_mut(chunk).zip(depth.chunks_mut(chunk));
-            let jobs = jobs.zip(dirty.chunks_mut(band_rows as usize));
-            jobs.enumerate().map(run).sum()
-        }
+        Some(p) => p.install(|| bands.into_par_iter().enumerate().map(run).sum()),
+        None => bands.into_iter().enumerate().map(run).sum(),
     }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Test hook: multisampled draws on this thread write every sample, with no pixel layer
+    /// (the reference the layer is tested against).
+    pub(crate) static LAYERLESS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether the `LAYERLESS` test hook is set on this thread (never outside tests).
+fn layerless() -> bool {
+    #[cfg(test)]
+    return LAYERLESS.get();
+    #[cfg(not(test))]
+    false
+}
+
+/// One band's rows: sample (or pixel) colours and depths, the dirty columns per row, and the
+/// pixel layer's rows of a multisampled image.
+struct Rows<'a> {
+    color: &'a mut [Vec3],
+    depth: &'a mut [f32],
+    dirty: &'a mut [(u32, u32)],
+    layer: Option<LayerRows<'a>>,
 }
 
 /// Whether `S` draws every band in one pass: a constant colour, or a pixel stage cheap
@@ -95,7 +147,8 @@ const fn one_pass<S: Shader>() -> bool {
 /// Band `b` in one pass: each triangle depth-tested, shaded and written in turn. Widens the
 /// target's dirty columns by every span drawn. Returns the pixels shaded.
 fn draw_single<S: Shader>(input: &BandInput<S>, b: usize, target: &mut BandTarget) -> u64 {
-    // Two-pass shaders come here only for bands of one record: not worth a second copy.
+    // Two-pass shaders come here only for bands of one record without multisampling: not
+    // worth a second copy.
     #[cfg(target_arch = "x86_64")]
     if let (true, Some(avx2)) = (one_pass::<S>(), input.wide.avx2) {
         return avx2.run(SingleRun { input, b, target });

@@ -10,6 +10,7 @@ use glam::Vec3;
 use crate::batch::{Pending, RowShader};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::lanes;
+use crate::framebuffer::layer::LayerRows;
 use crate::shader::Shader;
 use crate::traverse::{Planes, planes_at};
 
@@ -51,8 +52,13 @@ pub(crate) struct ByPixel<'a> {
 impl ByPixel<'_> {
     /// Shades the band's pixels into `color` with `shade` (the colours of the first `count` of
     /// `N` attribute sets), `N` pixels per call; returns the pixels shaded.
-    pub fn shade<const N: usize>(&self, color: &mut [Vec3], shade: &RowShader<'_, N>) -> u64 {
-        self.shade_impl(color, shade)
+    pub fn shade<const N: usize>(
+        &self,
+        color: &mut [Vec3],
+        layer: Option<&mut LayerRows<'_>>,
+        shade: &RowShader<'_, N>,
+    ) -> u64 {
+        self.shade_impl(color, layer, shade)
     }
 
     /// [`ByPixel::shade`] of eight pixels per call in an AVX2 frame, with the loop itself
@@ -62,21 +68,28 @@ impl ByPixel<'_> {
         &self,
         avx2: crate::simd::Avx2,
         color: &mut [Vec3],
+        layer: Option<&mut LayerRows<'_>>,
         shade: &RowShader<'_, 8>,
     ) -> u64 {
         avx2.run(RowRun {
             pass: self,
             shade,
             color,
+            layer,
         })
     }
 
     /// [`ByPixel::shade`], inlined.
     #[inline(always)]
-    fn shade_impl<const N: usize>(&self, color: &mut [Vec3], shade: &RowShader<'_, N>) -> u64 {
+    fn shade_impl<const N: usize>(
+        &self,
+        color: &mut [Vec3],
+        layer: Option<&mut LayerRows<'_>>,
+        shade: &RowShader<'_, N>,
+    ) -> u64 {
         match self.block {
-            2 => return self.shade_blocks::<N, 2, 4>(color, shade),
-            4 => return self.shade_blocks::<N, 4, 16>(color, shade),
+            2 => return self.shade_blocks::<N, 2, 4>(color, layer, shade),
+            4 => return self.shade_blocks::<N, 4, 16>(color, layer, shade),
             _ => {}
         }
         // The lane count as a constant: the stepping and the divide compile to whole vectors.
@@ -98,13 +111,18 @@ impl ByPixel<'_> {
     /// calls the stage through [`RowShader`] (measured on a textured sphere), while the loops of
     /// eight lanes or fewer cost less that way; so only these shaders get a loop of their own.
     #[inline(always)]
-    pub fn shade_wide<const N: usize, F>(&self, color: &mut [Vec3], shade: &F) -> u64
+    pub fn shade_wide<const N: usize, F>(
+        &self,
+        color: &mut [Vec3],
+        layer: Option<&mut LayerRows<'_>>,
+        shade: &F,
+    ) -> u64
     where
         F: Fn(&[Attrs; N], usize, f32) -> [Vec3; N],
     {
         match self.block {
-            2 => return self.shade_blocks::<N, 2, 4>(color, shade),
-            4 => return self.shade_blocks::<N, 4, 16>(color, shade),
+            2 => return self.shade_blocks::<N, 2, 4>(color, layer, shade),
+            4 => return self.shade_blocks::<N, 4, 16>(color, layer, shade),
             _ => {}
         }
         if self.perspective {
@@ -124,11 +142,13 @@ impl ByPixel<'_> {
         avx2: crate::simd::Avx2,
         shader: &S,
         color: &mut [Vec3],
+        layer: Option<&mut LayerRows<'_>>,
     ) -> u64 {
         avx2.run(WideRun {
             pass: self,
             shader,
             color,
+            layer,
         })
     }
 
@@ -205,36 +225,39 @@ impl ByPixel<'_> {
 
 /// [`ByPixel::shade_wide_avx2`]'s loop as one AVX2 task.
 #[cfg(target_arch = "x86_64")]
-struct WideRun<'p, 'a, S> {
+struct WideRun<'p, 'a, 'l, S> {
     pass: &'p ByPixel<'a>,
     shader: &'p S,
     color: &'p mut [Vec3],
+    layer: Option<&'p mut LayerRows<'l>>,
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<S: Shader> phosphor_lighting::Avx2Task for WideRun<'_, '_, S> {
+impl<S: Shader> phosphor_lighting::Avx2Task for WideRun<'_, '_, '_, S> {
     type Output = u64;
     #[inline(always)]
     fn run(self, s: phosphor_lighting::Avx2) -> u64 {
         let (shader, wide) = (self.shader, crate::batch::Wide { avx2: Some(s) });
         let kernel = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
-        self.pass.shade_wide::<8, _>(self.color, &kernel)
+        self.pass
+            .shade_wide::<8, _>(self.color, self.layer, &kernel)
     }
 }
 
 /// [`ByPixel::shade_avx2`]'s loop as one AVX2 task.
 #[cfg(target_arch = "x86_64")]
-struct RowRun<'p, 'a, 's> {
+struct RowRun<'p, 'a, 's, 'l> {
     pass: &'p ByPixel<'a>,
     shade: &'p RowShader<'s, 8>,
     color: &'p mut [Vec3],
+    layer: Option<&'p mut LayerRows<'l>>,
 }
 
 #[cfg(target_arch = "x86_64")]
-impl phosphor_lighting::Avx2Task for RowRun<'_, '_, '_> {
+impl phosphor_lighting::Avx2Task for RowRun<'_, '_, '_, '_> {
     type Output = u64;
     #[inline(always)]
     fn run(self, _: phosphor_lighting::Avx2) -> u64 {
-        self.pass.shade_impl(self.color, self.shade)
+        self.pass.shade_impl(self.color, self.layer, self.shade)
     }
 }

@@ -3,8 +3,11 @@
 
 use glam::Vec3;
 
+pub(crate) mod layer;
 mod readout;
 pub use readout::Shown;
+
+use layer::PixelLayer;
 
 /// Errors of the raster crate; each names the value at fault.
 #[derive(Debug, thiserror::Error)]
@@ -58,6 +61,9 @@ pub struct Framebuffer {
     /// The sample image of the last anti-aliased frame ([`crate::Antialias`]), kept so that
     /// the next frame of the same size and choice reuses it instead of allocating again.
     pub(crate) samples: Option<Box<Framebuffer>>,
+    /// A multisampled sample image's colour per output pixel ([`layer`]): where a pixel is
+    /// not split by an edge, its colour is here and its samples' colours mean nothing.
+    pub(crate) layer: Option<PixelLayer>,
     /// The largest intensity a pixel keeps: 1, or [`HDR_MAX`] ([`Framebuffer::set_hdr`]).
     pub(crate) ceiling: f32,
     /// Per pixel, the share of what lies under the overlays that shows through them: the
@@ -123,6 +129,7 @@ impl Framebuffer {
             clean: Some(Vec3::ZERO),
             dirty: vec![CLEAN_ROW; height as usize],
             samples: None,
+            layer: None,
             ceiling: 1.0,
             overlay: None,
         })
@@ -228,8 +235,16 @@ impl Framebuffer {
         let bg = clamp_color_to(background, self.ceiling);
         let only_dirty = same_color(self.clean, bg);
         let width = self.width;
+        // With a pixel layer the samples' colours mean nothing until a pixel is split.
+        let color: &mut [Vec3] = match &mut self.layer {
+            Some(layer) => {
+                layer.all().clear(bg, only_dirty.then_some(&self.dirty[..]));
+                &mut []
+            }
+            None => &mut self.color,
+        };
         clear_rows(
-            (&mut self.color, &mut self.depth, &mut self.dirty),
+            (color, &mut self.depth, &mut self.dirty),
             width,
             bg,
             only_dirty,
@@ -243,6 +258,23 @@ impl Framebuffer {
     pub(crate) fn defer_clear(&mut self, background: Vec3) {
         self.pending_clear = Some(clamp_color_to(background, self.ceiling));
         self.overlay = None;
+    }
+
+    /// Gives this sample image a pixel layer of `k x k` samples per pixel ([`layer`]), for
+    /// multisampled draws, or with `k == 1` takes it away, first writing the colour of every
+    /// pixel it held to the pixel's samples: either way the image shows what it showed.
+    pub(crate) fn set_layer(&mut self, k: u32) {
+        if self.layer.as_ref().is_some_and(|l| l.k == k as usize) {
+            return;
+        }
+        if let Some(mut layer) = self.layer.take() {
+            layer.all().split_all(&mut self.color);
+        }
+        let (w, h) = (self.width / k.max(1), self.height / k.max(1));
+        if k > 1 && w * k == self.width && h * k == self.height {
+            let (k, w, h) = (k as usize, w as usize, h as usize);
+            self.layer = Some(PixelLayer::over_samples(k, w, h));
+        }
     }
 
     /// Drops the sample image an anti-aliased frame keeps for reuse.
@@ -364,13 +396,18 @@ pub(crate) fn clear_rows(
 /// (48 bytes, three full vector stores) rather than one 12-byte `Vec3` at a time, which is what
 /// a plain `fill` compiles to; the clear touches every pixel of every frame.
 pub(crate) fn fill_rows(color: &mut [Vec3], depth: &mut [f32], bg: Vec3) {
+    fill_colors(color, bg);
+    depth.fill(FAR_DEPTH);
+}
+
+/// Fills `color` with `bg`, four at a time ([`fill_rows`]).
+pub(crate) fn fill_colors(color: &mut [Vec3], bg: Vec3) {
     let four = [bg; 4];
     let mut quads = color.chunks_exact_mut(4);
     for q in &mut quads {
         q.copy_from_slice(&four);
     }
     quads.into_remainder().fill(bg);
-    depth.fill(FAR_DEPTH);
 }
 
 #[cfg(test)]

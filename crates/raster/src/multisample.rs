@@ -2,7 +2,8 @@
 //! per block and triangle. A block whose samples all show one triangle is shaded at its
 //! centre (runs of such blocks stepped by `K dA/dx`); a block on an edge once for each
 //! triangle it shows, at the centroid of that triangle's samples, and each colour written to
-//! every sample of its triangle in the block.
+//! every sample of its triangle in the block. With a pixel layer
+//! ([`crate::framebuffer::layer`]) a whole block's colour is written once, to its pixel.
 
 use glam::Vec3;
 
@@ -10,6 +11,7 @@ use crate::batch::{Pending, RowShader};
 use crate::bypixel::ByPixel;
 use crate::clip::MAX_ATTRS;
 use crate::coverage::lanes;
+use crate::framebuffer::layer::{LayerRows, SPLIT, WHOLE, fill_block};
 use crate::traverse::planes_at;
 
 impl ByPixel<'_> {
@@ -17,17 +19,24 @@ impl ByPixel<'_> {
     pub(crate) fn shade_blocks<const N: usize, const K: usize, const S: usize>(
         &self,
         color: &mut [Vec3],
+        layer: Option<&mut LayerRows<'_>>,
         shade: &RowShader<'_, N>,
     ) -> u64 {
+        let mut out = BlockOut {
+            samples: color,
+            layer,
+            width: self.width as usize,
+        };
+        let out = &mut out;
         match (self.perspective, lanes(self.n)) {
-            (true, 0) => self.run_blocks::<N, true, 0, K, S>(color, shade),
-            (true, 4) => self.run_blocks::<N, true, 4, K, S>(color, shade),
-            (true, 8) => self.run_blocks::<N, true, 8, K, S>(color, shade),
-            (true, _) => self.run_blocks::<N, true, MAX_ATTRS, K, S>(color, shade),
-            (false, 0) => self.run_blocks::<N, false, 0, K, S>(color, shade),
-            (false, 4) => self.run_blocks::<N, false, 4, K, S>(color, shade),
-            (false, 8) => self.run_blocks::<N, false, 8, K, S>(color, shade),
-            (false, _) => self.run_blocks::<N, false, MAX_ATTRS, K, S>(color, shade),
+            (true, 0) => self.run_blocks::<N, true, 0, K, S>(out, shade),
+            (true, 4) => self.run_blocks::<N, true, 4, K, S>(out, shade),
+            (true, 8) => self.run_blocks::<N, true, 8, K, S>(out, shade),
+            (true, _) => self.run_blocks::<N, true, MAX_ATTRS, K, S>(out, shade),
+            (false, 0) => self.run_blocks::<N, false, 0, K, S>(out, shade),
+            (false, 4) => self.run_blocks::<N, false, 4, K, S>(out, shade),
+            (false, 8) => self.run_blocks::<N, false, 8, K, S>(out, shade),
+            (false, _) => self.run_blocks::<N, false, MAX_ATTRS, K, S>(out, shade),
         }
     }
 
@@ -69,11 +78,12 @@ impl ByPixel<'_> {
         const S: usize,
     >(
         &self,
-        color: &mut [Vec3],
+        out: &mut BlockOut,
         shade4: &RowShader<'_, N>,
     ) -> u64 {
         let kf = K as f64;
         let width = self.width as usize;
+        let pixels = width / K;
         let all = block_mask::<K>();
         let mut shaded = 0;
         let mut pending = Pending::<BlockSamples, N>::new(self.ceiling);
@@ -85,6 +95,7 @@ impl ByPixel<'_> {
             let (mut step_w, mut step) = (0.0f64, [0.0f32; MAX_ATTRS]);
             for bx in self.block_columns::<K>(by) {
                 let base = by * K * width + bx * K;
+                let pixel = by * pixels + bx;
                 let Some(ids) = self.block_ids::<K, S>(base) else {
                     continue;
                 };
@@ -118,8 +129,8 @@ impl ByPixel<'_> {
                     } else {
                         1.0
                     };
-                    if pending.queue((base, all), (&attrs, w, L)) {
-                        pending.flush_into(shade4, |at, c| write_block::<K>(color, width, at, c));
+                    if pending.queue((base, pixel, all), (&attrs, w, L)) {
+                        pending.flush_into(shade4, |at, c| out.write::<K>(at, c));
                     }
                     shaded += 1;
                     continue;
@@ -144,14 +155,14 @@ impl ByPixel<'_> {
                     let o = ((bx * K) as f64 + cx - p.origin.0, top + cy - p.origin.1);
                     let (iw, a) = planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], o, L);
                     let w = if PERSPECTIVE { (1.0 / iw) as f32 } else { 1.0 };
-                    if pending.queue((base, mask), (&a, w, L)) {
-                        pending.flush_into(shade4, |at, c| write_block::<K>(color, width, at, c));
+                    if pending.queue((base, pixel, mask), (&a, w, L)) {
+                        pending.flush_into(shade4, |at, c| out.write::<K>(at, c));
                     }
                     shaded += 1;
                 }
             }
         }
-        pending.flush_into(shade4, |at, c| write_block::<K>(color, width, at, c));
+        pending.flush_into(shade4, |at, c| out.write::<K>(at, c));
         shaded
     }
 
@@ -215,32 +226,55 @@ const fn centroid_of(mask: u16, k: usize) -> (f64, f64) {
     (sx as f64 / twice_count, sy as f64 / twice_count)
 }
 
-/// Where a multisampled shading's colour goes: the first sample of its block and a mask of the
-/// block's samples (bit `sy * K + sx`) that take it.
-type BlockSamples = (usize, u16);
+/// Where a multisampled shading's colour goes: the first sample of its block, the block's
+/// pixel in the band, and a mask of the block's samples (bit `sy * K + sx`) that take it.
+type BlockSamples = (usize, usize, u16);
 
-/// Writes colour `c` to the samples `(base, mask)` of a `K x K` block in rows `width` long.
-#[inline(always)]
-fn write_block<const K: usize>(
-    color: &mut [Vec3],
+/// A multisampled band's colours: its samples (rows `width` long) and, when the image has
+/// one, its pixel layer's rows ([`crate::framebuffer::layer`]).
+pub(crate) struct BlockOut<'o, 'l> {
+    samples: &'o mut [Vec3],
+    layer: Option<&'o mut LayerRows<'l>>,
     width: usize,
-    (base, mask): BlockSamples,
-    c: Vec3,
-) {
-    if mask == block_mask::<K>() {
-        for sy in 0..K {
-            let row = base + sy * width;
-            if let Some(row) = color.get_mut(row..row + K) {
-                row.fill(c);
+}
+
+impl BlockOut<'_, '_> {
+    /// Writes colour `c` to the samples `(base, pixel, mask)` of a `K x K` block: with a pixel
+    /// layer, a whole block to its pixel's colour (the pixel becomes whole) where the layer
+    /// keeps whole pixels, else to its samples; part of one to its samples, after the pixel's
+    /// own colour when it was whole (the pixel becomes split either way).
+    #[inline(always)]
+    fn write<const K: usize>(&mut self, (base, pixel, mask): BlockSamples, c: Vec3) {
+        let whole = mask == block_mask::<K>();
+        if let Some(layer) = &mut self.layer {
+            let (Some(color), Some(split)) =
+                (layer.color.get_mut(pixel), layer.split.get_mut(pixel))
+            else {
+                return;
+            };
+            if whole {
+                if layer.keep_whole {
+                    (*color, *split) = (c, WHOLE);
+                } else {
+                    fill_block(self.samples, self.width, base, K, c);
+                    *split = SPLIT;
+                }
+                return;
             }
+            if *split == WHOLE {
+                fill_block(self.samples, self.width, base, K, *color);
+                *split = SPLIT;
+            }
+        } else if whole {
+            fill_block(self.samples, self.width, base, K, c);
+            return;
         }
-        return;
-    }
-    for sy in 0..K {
-        for sx in 0..K {
-            if mask & (1 << (sy * K + sx)) != 0 {
-                if let Some(p) = color.get_mut(base + sy * width + sx) {
-                    *p = c;
+        for sy in 0..K {
+            for sx in 0..K {
+                if mask & (1 << (sy * K + sx)) != 0 {
+                    if let Some(p) = self.samples.get_mut(base + sy * self.width + sx) {
+                        *p = c;
+                    }
                 }
             }
         }

@@ -12,6 +12,7 @@ use crate::bin::{Binned, TriRec};
 use crate::bypixel::ByPixel;
 use crate::clip::Attrs;
 use crate::coverage::{BandTarget, Pass, depth_only, lanes};
+use crate::framebuffer::layer::LayerRows;
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
 use crate::shader::{Face, Shader, interpolated};
@@ -58,10 +59,11 @@ pub(crate) fn draw_two_pass<S: Shader>(
     b: usize,
     target: BandTarget,
     block: u32,
+    layer: Option<LayerRows>,
 ) -> u64 {
     SCRATCH.with(|scratch| {
         let scratch = &mut *scratch.borrow_mut();
-        two_pass(input, b, target, scratch, block)
+        two_pass(input, b, target, scratch, (block, layer))
     })
 }
 
@@ -71,7 +73,7 @@ fn two_pass<'s, S: Shader>(
     b: usize,
     mut target: BandTarget<'s>,
     scratch: &'s mut Scratch,
-    block: u32,
+    (block, mut layer): (u32, Option<LayerRows>),
 ) -> u64 {
     // The depth pass records the columns it writes; the shading passes write only there.
     let dirty = std::mem::take(&mut target.dirty);
@@ -91,16 +93,43 @@ fn two_pass<'s, S: Shader>(
     for (d, e) in dirty.iter_mut().zip(scratch.extents.iter()) {
         *d = (d.0.min(e.0), d.1.max(e.1));
     }
+    // Small triangles leave few pixels whole: their samples are written.
+    if let Some(layer) = &mut layer {
+        layer.keep_whole = !mostly_edges(&scratch.owns, &scratch.extents, block);
+    }
     let (mut shaded, mut traced) = (0, true);
     if !input.incremental || S::FACE == Face::Stepped {
-        (shaded, traced) = by_pixel_pass(input, b, &mut target, scratch, epoch, block);
+        let out = (&mut target, layer.as_mut());
+        (shaded, traced) = by_pixel_pass(input, b, out, scratch, epoch, block);
     }
     if traced {
+        // The visible pass writes samples one by one.
+        if let Some(layer) = &mut layer {
+            layer.split_all(target.color);
+        }
         let scratch: &'s Scratch = scratch;
         target.ids = &scratch.ids;
         shaded += visible_pass(input, b, &mut target, &scratch.owns, epoch);
     }
     shaded
+}
+
+/// Below this many pixels per visible triangle, a multisampled band's draw keeps no pixel
+/// whole ([`LayerRows::keep_whole`]): a triangle so small covers few pixels that no edge
+/// crosses, and a whole pixel that an edge then splits costs more than writing its samples.
+const WHOLE_PIXELS_MIN: usize = 24;
+
+/// Whether the visible records (`owns`) of a band cover fewer than [`WHOLE_PIXELS_MIN`] pixels
+/// each on average: the samples between the depth pass's `extents`, `block x block` a pixel,
+/// over the records.
+fn mostly_edges(owns: &[bool], extents: &[(u32, u32)], block: u32) -> bool {
+    let visible = owns.iter().filter(|&&o| o).count();
+    let samples: usize = extents
+        .iter()
+        .map(|&(lo, hi)| (hi as usize).saturating_sub(lo as usize))
+        .sum();
+    let per_pixel = (block * block) as usize;
+    samples < WHOLE_PIXELS_MIN * per_pixel * visible
 }
 
 /// Whether record `r` is shaded from the id buffer (interpolated, and not walked by the
@@ -119,7 +148,7 @@ fn by_pixel<S: Shader>(input: &BandInput<S>, c: &Binned<S::Stepped>, r: &TriRec)
 fn by_pixel_pass<S: Shader>(
     input: &BandInput<S>,
     b: usize,
-    target: &mut BandTarget,
+    (target, layer): (&mut BandTarget, Option<&mut LayerRows>),
     scratch: &mut Scratch,
     epoch: u64,
     block: u32,
@@ -154,29 +183,29 @@ fn by_pixel_pass<S: Shader>(
         if wide_attrs {
             #[cfg(target_arch = "x86_64")]
             {
-                pass.shade_wide_avx2(avx2, shader, target.color)
+                pass.shade_wide_avx2(avx2, shader, target.color, layer)
             }
             #[cfg(not(target_arch = "x86_64"))]
             {
                 let _ = avx2;
-                pass.shade_wide::<8, _>(target.color, &kernel)
+                pass.shade_wide::<8, _>(target.color, layer, &kernel)
             }
         } else {
             #[cfg(target_arch = "x86_64")]
             {
-                pass.shade_avx2(avx2, target.color, &kernel)
+                pass.shade_avx2(avx2, target.color, layer, &kernel)
             }
             #[cfg(not(target_arch = "x86_64"))]
             {
-                pass.shade::<8>(target.color, &kernel)
+                pass.shade::<8>(target.color, layer, &kernel)
             }
         }
     } else {
         let kernel = |a: &[Attrs; 4], count, ceiling| shade4(shader, a, count, ceiling);
         if wide_attrs {
-            pass.shade_wide::<4, _>(target.color, &kernel)
+            pass.shade_wide::<4, _>(target.color, layer, &kernel)
         } else {
-            pass.shade::<4>(target.color, &kernel)
+            pass.shade::<4>(target.color, layer, &kernel)
         }
     };
     (shaded, traced)

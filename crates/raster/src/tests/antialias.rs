@@ -240,3 +240,115 @@ fn switching_the_range_redraws_the_clear_in_the_new_range() {
     fb.clear(Vec3::new(2.0, 0.5, f32::NAN));
     assert_eq!(fb.pixel(0, 0), Vec3::new(1.0, 0.5, 0.0));
 }
+
+#[test]
+fn whole_pixels_kept_once_give_the_image_of_every_sample_written() {
+    use super::support::{s1_lights, uv_sphere};
+    use crate::bands::LAYERLESS;
+    use crate::framebuffer::layer::WHOLE;
+    use crate::{Framebuffer, Interpolation, render};
+    use glam::Mat4;
+
+    let cam = Camera::s1();
+    let (w, h) = (97, 71);
+    // Large triangles leave whole pixels in the layer; small ones split their bands.
+    let (coarse, fine) = (uv_sphere(0.35, 6, 4), uv_sphere(0.35, 48, 32));
+    let material = Material::s1();
+    let lights = s1_lights();
+    let at = |x: f32, y: f32, s: f32| {
+        Mat4::from_translation(Vec3::new(x, y, 0.0)) * Mat4::from_scale(Vec3::splat(s))
+    };
+    // Frames in a row into the same framebuffers: draws that write whole pixels (`phong`),
+    // samples one by one (`flat`, `gouraud`, the incremental scan line) and both, over one
+    // another; a new background, the high range, and a supersampled frame between.
+    let frames = [
+        (
+            ShadingMode::Phong,
+            ShadingMode::Flat,
+            Interpolation::Plane,
+            0,
+        ),
+        (
+            ShadingMode::Flat,
+            ShadingMode::Phong,
+            Interpolation::Plane,
+            0,
+        ),
+        (
+            ShadingMode::Phong,
+            ShadingMode::Phong,
+            Interpolation::Incremental,
+            1,
+        ),
+        (
+            ShadingMode::Gouraud,
+            ShadingMode::Phong,
+            Interpolation::Plane,
+            2,
+        ),
+        (
+            ShadingMode::Phong,
+            ShadingMode::FastPhong,
+            Interpolation::Plane,
+            3,
+        ),
+        (
+            ShadingMode::Phong,
+            ShadingMode::Phong,
+            Interpolation::Plane,
+            0,
+        ),
+    ];
+    for aa in [Antialias::Msaa4, Antialias::Msaa16] {
+        for threads in [1, 3] {
+            let mut fbs = [
+                Framebuffer::new(w, h).unwrap(),
+                Framebuffer::new(w, h).unwrap(),
+            ];
+            for (k, &(first, second, interpolation, twist)) in frames.iter().enumerate() {
+                let mut a = item(&coarse, &material, &lights, first);
+                a.model = at(0.1 * k as f32, 0.0, 1.0 + 0.3 * k as f32);
+                let mut b = item(&fine, &material, &lights, second);
+                b.model = at(-0.2, 0.15 * k as f32, 0.8);
+                let opts = RenderOptions {
+                    threads,
+                    antialias: if twist == 3 { Antialias::Ssaa4 } else { aa },
+                    interpolation,
+                    background: Vec3::new(0.1, 0.2, 0.3 + 0.2 * f32::from(twist == 1)),
+                    ..RenderOptions::default()
+                };
+                for (i, fb) in fbs.iter_mut().enumerate() {
+                    fb.set_hdr(twist == 2);
+                    LAYERLESS.set(i == 1);
+                    render(fb, &cam, &[a, b], &opts);
+                    LAYERLESS.set(false);
+                }
+                let what = format!("{aa} x{threads} frame {k}");
+                let [layered, plain] = &fbs;
+                let bits = |fb: &Framebuffer| {
+                    let c = fb.color().iter().flat_map(|c| c.to_array());
+                    c.chain(fb.depth().iter().copied())
+                        .map(f32::to_bits)
+                        .collect::<Vec<_>>()
+                };
+                let (a, b) = (bits(layered), bits(plain));
+                let differs = a.iter().zip(&b).position(|(a, b)| a != b);
+                assert_eq!(differs, None, "{what}: first value that differs");
+                assert_eq!(a.len(), b.len(), "{what}");
+                assert_eq!(layered.coverage(), plain.coverage(), "{what}: coverage");
+                // The layer held whole pixels where the coarse sphere was shaded by pixel, and
+                // no draw shading during traversal (`fast-phong` steps its polynomial) split
+                // its bands afterwards; the reference had none.
+                let layer = |fb: &Framebuffer| fb.samples.as_ref().and_then(|s| s.layer.clone());
+                if matches!(k, 0 | 5) {
+                    let kept = layer(layered).is_some_and(|l| l.split.contains(&WHOLE));
+                    assert!(kept, "{what}: no whole pixel kept");
+                }
+                assert!(layer(plain).is_none(), "{what}");
+                // Something was drawn, and edges were resolved from their samples.
+                let shares = layered.coverage();
+                assert!(shares.iter().any(|&s| s > 0.0 && s < 1.0), "{what}");
+            }
+        }
+    }
+}

@@ -144,7 +144,7 @@ fn by_pixel_shading_reproduces_the_closed_form_of_the_nearest_triangle() {
         block: 1,
         ceiling: 1.0,
     };
-    let n = pass.shade::<4>(&mut color, &|a: &[Attrs; 4], _, _| {
+    let n = pass.shade::<4>(&mut color, None, &|a: &[Attrs; 4], _, _| {
         a.map(|a| Vec3::splat(a[0]))
     });
     let owned: Vec<usize> = (0..2)
