@@ -242,15 +242,28 @@ fn resolve_row<const K: usize>(
     depth: &mut [f32],
 ) {
     let stride = width * K;
-    for (i, (c, d)) in color.iter_mut().zip(depth.iter_mut()).enumerate() {
-        let x = (lo + i) * K;
-        let whole = layer.and_then(|(colors, split)| {
-            (split.get(lo + i) == Some(&WHOLE)).then(|| colors.get(lo + i).copied())
-        });
-        (*c, *d) = match whole.flatten() {
-            Some(whole) => (whole, filter_pixel::<K, false>(rows, depths, stride, x).1),
-            None => filter_pixel::<K, true>(rows, depths, stride, x),
-        };
+    let n = color.len();
+    let layer =
+        layer.and_then(|(colors, split)| Some((colors.get(lo..lo + n)?, split.get(lo..lo + n)?)));
+    let Some((colors, split)) = layer else {
+        for (i, (c, d)) in color.iter_mut().zip(depth.iter_mut()).enumerate() {
+            (*c, *d) = filter_pixel::<K, true>(rows, depths, stride, (lo + i) * K);
+        }
+        return;
+    };
+    // In three streams: every depth, every colour the layer holds, then the split pixels'
+    // means over them.
+    for (i, d) in depth.iter_mut().enumerate() {
+        *d = filter_pixel::<K, false>(rows, depths, stride, (lo + i) * K).1;
+    }
+    color.copy_from_slice(colors);
+    for (i, (c, _)) in color
+        .iter_mut()
+        .zip(split)
+        .enumerate()
+        .filter(|(_, (_, s))| **s != WHOLE)
+    {
+        *c = filter_pixel::<K, true>(rows, depths, stride, (lo + i) * K).0;
     }
 }
 
