@@ -27,7 +27,7 @@ use std::str::FromStr;
 
 use glam::Vec3;
 
-use crate::framebuffer::layer::WHOLE;
+use crate::framebuffer::layer::{WHOLE, columns_over};
 use crate::framebuffer::{CLEAN_ROW, Framebuffer, MAX_SIDE, fill_rows, same_color};
 
 /// How edges are anti-aliased; names as used by the CLI and scene files.
@@ -161,13 +161,9 @@ pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, thre
             if clean.is_none() {
                 return full;
             }
-            let (lo, hi) = rows
-                .iter()
-                .fold((u32::MAX, 0), |(lo, hi), &(l, h)| (lo.min(l), hi.max(h)));
-            if lo < hi {
-                (lo / k as u32, hi.div_ceil(k as u32).min(width as u32))
-            } else {
-                CLEAN_ROW
+            match columns_over(rows, k, width) {
+                (lo, hi) if lo < hi => (lo as u32, hi as u32),
+                _ => CLEAN_ROW,
             }
         })
         .collect();

@@ -135,7 +135,7 @@ impl LayerRows<'_> {
 
 /// The pixels `[lo, hi)` (empty when `lo >= hi`) of a row `width` pixels long over the
 /// columns `[lo, hi)` of its `k` sample rows.
-fn columns_over(sample_rows: &[(u32, u32)], k: usize, width: usize) -> (usize, usize) {
+pub(crate) fn columns_over(sample_rows: &[(u32, u32)], k: usize, width: usize) -> (usize, usize) {
     let (lo, hi) = sample_rows
         .iter()
         .fold((u32::MAX, 0), |(lo, hi), &(l, h)| (lo.min(l), hi.max(h)));
