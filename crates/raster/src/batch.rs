@@ -16,6 +16,16 @@ use crate::shader::{MAX_VARYINGS, Shader, Varyings, interpolated};
 /// of once per shader: the per-shader copies made most of the binary's machine code.
 pub(crate) type RowShader<'a, const N: usize> = dyn Fn(&[Attrs; N], usize, f32) -> [Vec3; N] + 'a;
 
+/// `N <= 8` pixels' attributes already in lanes: `[k][i]` is attribute `k` of pixel `i`
+/// (lanes past `N` unused). What the by-pixel pass builds a run of pixels into directly, so
+/// that its pixels reach the pixel stage with no transpose.
+pub(crate) type AttrLanes = [[f32; 8]; MAX_ATTRS];
+
+/// A shader's pixel stage over `N` pixels' attributes in lanes ([`AttrLanes`]): the colours
+/// of the first `count`, clamped to `[0, ceiling]`, as [`RowShader`]'s. The lanes past
+/// `count` must hold finite attributes of some pixel (their colours are dropped).
+pub(crate) type LaneShader<'a, const N: usize> = dyn Fn(&AttrLanes, usize, f32) -> [Vec3; N] + 'a;
+
 /// Pixels waiting to be shaded `N` at a time, each with where its colour goes: a pixel index
 /// of the band (`usize`), or a multisampled block's samples.
 #[derive(Debug, Clone)]
@@ -134,6 +144,43 @@ pub(crate) fn varyings_of_rows<S: Shader, L: Lanes, const N: usize>(
     v
 }
 
+/// Attributes in lanes as varyings of the kind of `like`: one load per attribute the shader
+/// reads.
+#[inline(always)]
+pub(crate) fn varyings_of_lanes<S: Shader, L: Lanes>(like: L, a: &AttrLanes) -> Varyings<L> {
+    let zero = like.splat(0.0);
+    let mut v = [zero; MAX_VARYINGS];
+    let n = crate::coverage::lanes(interpolated::<S>());
+    for k in 0..n {
+        v[k] = like.with_lanes(a[k]);
+    }
+    v
+}
+
+/// [`shade_lanes`] in four lanes, compiled once per shader as [`shade4`] is.
+#[inline(never)]
+pub(crate) fn shade4_lanes<S: Shader>(
+    shader: &S,
+    a: &AttrLanes,
+    count: usize,
+    ceiling: f32,
+) -> [Vec3; 4] {
+    shade_lanes(shader, phosphor_lighting::f32x4::ZERO, a, count, ceiling)
+}
+
+/// [`shade_rows`] of pixels whose attributes are already in lanes.
+#[inline(always)]
+pub(crate) fn shade_lanes<S: Shader, L: Lanes, const N: usize>(
+    shader: &S,
+    like: L,
+    a: &AttrLanes,
+    count: usize,
+    ceiling: f32,
+) -> [Vec3; N] {
+    let c = shader.pixel(&varyings_of_lanes::<S, L>(like, a));
+    clamped_colors(c, count, ceiling)
+}
+
 /// [`shade_rows`] in four lanes: the one copy of a shader's four-lane pixel stage, which every
 /// pass shading four pixels at a time calls. Not inlined, so that the pixel stage, the
 /// largest code of a shader, is compiled once per shader rather than once per call site.
@@ -218,6 +265,53 @@ impl Wide {
             shade4(shader, &hi, count.saturating_sub(4), ceiling),
         );
         std::array::from_fn(|i| if i < 4 { lo[i] } else { hi[i - 4] })
+    }
+
+    /// [`Wide::shade8`] of eight pixels whose attributes are already in lanes.
+    #[inline(always)]
+    pub fn shade8_lanes<S: Shader>(
+        self,
+        shader: &S,
+        a: &AttrLanes,
+        count: usize,
+        ceiling: f32,
+    ) -> [Vec3; 8] {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = self.avx2 {
+            return avx2.run(Shade8Lanes {
+                shader,
+                a,
+                count,
+                ceiling,
+            });
+        }
+        let hi: AttrLanes = std::array::from_fn(|k| {
+            let r = &a[k];
+            [r[4], r[5], r[6], r[7], r[4], r[5], r[6], r[7]]
+        });
+        let (lo, hi) = (
+            shade4_lanes(shader, a, count.min(4), ceiling),
+            shade4_lanes(shader, &hi, count.saturating_sub(4), ceiling),
+        );
+        std::array::from_fn(|i| if i < 4 { lo[i] } else { hi[i - 4] })
+    }
+}
+
+/// Eight pixels in lanes through a shader's pixel stage as one AVX2 task.
+#[cfg(target_arch = "x86_64")]
+struct Shade8Lanes<'a, S> {
+    shader: &'a S,
+    a: &'a AttrLanes,
+    count: usize,
+    ceiling: f32,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<S: Shader> phosphor_lighting::Avx2Task for Shade8Lanes<'_, S> {
+    type Output = [Vec3; 8];
+    #[inline(always)]
+    fn run(self, s: phosphor_lighting::Avx2) -> [Vec3; 8] {
+        shade_lanes(self.shader, s.splat(0.0), self.a, self.count, self.ceiling)
     }
 }
 

@@ -7,7 +7,7 @@
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::batch::shade4;
+use crate::batch::{AttrLanes, shade4, shade4_lanes};
 use crate::bin::{Binned, TriRec};
 use crate::bypixel::ByPixel;
 use crate::clip::Attrs;
@@ -179,7 +179,8 @@ fn by_pixel_pass<S: Shader>(
     let wide_attrs = lanes(interpolated::<S>()) > 8;
     let shaded = if let Some(avx2) = input.wide.avx2 {
         let wide = input.wide;
-        let kernel = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
+        let rows = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
+        let lanes = |a: &AttrLanes, count, ceiling| wide.shade8_lanes(shader, a, count, ceiling);
         if wide_attrs {
             #[cfg(target_arch = "x86_64")]
             {
@@ -188,24 +189,25 @@ fn by_pixel_pass<S: Shader>(
             #[cfg(not(target_arch = "x86_64"))]
             {
                 let _ = avx2;
-                pass.shade_wide::<8, _>(target.color, layer, &kernel)
+                pass.shade_wide::<8, _, _>(target.color, layer, (&rows, &lanes))
             }
         } else {
             #[cfg(target_arch = "x86_64")]
             {
-                pass.shade_avx2(avx2, target.color, layer, &kernel)
+                pass.shade_avx2(avx2, target.color, layer, (&rows, &lanes))
             }
             #[cfg(not(target_arch = "x86_64"))]
             {
-                pass.shade::<8>(target.color, layer, &kernel)
+                pass.shade::<8>(target.color, layer, (&rows, &lanes))
             }
         }
     } else {
-        let kernel = |a: &[Attrs; 4], count, ceiling| shade4(shader, a, count, ceiling);
+        let rows = |a: &[Attrs; 4], count, ceiling| shade4(shader, a, count, ceiling);
+        let lanes = |a: &AttrLanes, count, ceiling| shade4_lanes(shader, a, count, ceiling);
         if wide_attrs {
-            pass.shade_wide::<4, _>(target.color, layer, &kernel)
+            pass.shade_wide::<4, _, _>(target.color, layer, (&rows, &lanes))
         } else {
-            pass.shade::<4>(target.color, layer, &kernel)
+            pass.shade::<4>(target.color, layer, (&rows, &lanes))
         }
     };
     (shaded, traced)

@@ -4,6 +4,7 @@
 
 use glam::Vec3;
 
+use crate::batch::AttrLanes;
 use crate::bypixel::ByPixel;
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::{BandTarget, depth_only};
@@ -144,9 +145,9 @@ fn by_pixel_shading_reproduces_the_closed_form_of_the_nearest_triangle() {
         block: 1,
         ceiling: 1.0,
     };
-    let n = pass.shade::<4>(&mut color, None, &|a: &[Attrs; 4], _, _| {
-        a.map(|a| Vec3::splat(a[0]))
-    });
+    let rows = |a: &[Attrs; 4], _, _| a.map(|a| Vec3::splat(a[0]));
+    let lanes = |a: &AttrLanes, _, _| std::array::from_fn(|i| Vec3::splat(a[0][i]));
+    let n = pass.shade::<4>(&mut color, None, (&rows, &lanes));
     let owned: Vec<usize> = (0..2)
         .map(|k| ids.iter().filter(|&&id| id == epoch + k as u64).count())
         .collect();

@@ -82,6 +82,42 @@ fn every_level_this_cpu_runs_draws_the_same_bits() {
 }
 
 #[test]
+fn long_runs_evaluated_in_lanes_give_the_same_bits_at_every_level() {
+    // A coarse sphere's rows are runs of tens of pixels of one triangle: the by-pixel pass
+    // evaluates them four pixels to a lane group, filling four lanes at the baseline and
+    // eight with AVX2, and steps the runs' last pixels one by one. Both levels must cut the
+    // runs alike, and give each pixel the same bits.
+    let levels = levels();
+    let cam = Camera::s1();
+    let mesh = uv_sphere(0.8, 10, 6);
+    let lights = s1_lights();
+    let material = Material::s1();
+    let draws = [item(&mesh, &material, &lights, ShadingMode::Phong)];
+    for (size, perspective, threads) in [((203, 151), true, 1), ((190, 140), false, 2)] {
+        let render = |simd| {
+            let opts = RenderOptions {
+                threads,
+                perspective_correct: perspective,
+                background: Vec3::new(0.1, 0.2, 0.3),
+                simd,
+                ..RenderOptions::default()
+            };
+            draw_image(size.0, size.1, &cam, &draws, &opts)
+        };
+        let (base, base_stats) = render(SimdLevel::Baseline);
+        assert!(base_stats.pixels_shaded > 5_000, "{base_stats:?}");
+        for &level in &levels[1..] {
+            let (fb, stats) = render(level);
+            assert_eq!(stats.pixels_shaded, base_stats.pixels_shaded);
+            assert!(
+                bits(&fb) == bits(&base),
+                "{level} differs from the baseline: {size:?} perspective {perspective}"
+            );
+        }
+    }
+}
+
+#[test]
 fn stepped_and_textured_draws_give_the_same_bits_at_every_level() {
     // Stepped triangles (fast-phong's two methods, flat textured) are shaded from a queue of
     // one triangle's pixels, and textured draws step sixteen attributes in the by-pixel loop:
