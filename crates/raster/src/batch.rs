@@ -1,6 +1,7 @@
 //! Pixels batched into lanes for a shader's pixel stage: each pixel's interpolated attributes
-//! are queued one pixel after another ([`Pending`]), then transposed into lanes
-//! ([`shade_rows`]), one pixel per lane, and the colours written back. The lane width is the
+//! are queued one pixel after another ([`Pending`]) and transposed into lanes on loading, or
+//! built straight into lanes ([`AttrLanes`]); either layout ([`Batch`]) goes through
+//! [`shade`], one pixel per lane, and the colours are written back. The lane width is the
 //! frame's SIMD level: four lanes, or eight inside an AVX2 function ([`Wide`]).
 
 use glam::Vec3;
@@ -72,7 +73,7 @@ impl<T: Copy + Default, const N: usize> Pending<T, N> {
 
     /// Shades the waiting entries with `shade` (the colours of the first `count` of `N`
     /// attribute sets, the others repeating the first, clamped to `[0, ceiling]`: see
-    /// [`shade_rows`]) and hands each colour to `write`.
+    /// [`shade`]) and hands each colour to `write`.
     #[inline(always)]
     pub fn flush_into(
         &mut self,
@@ -157,56 +158,93 @@ pub(crate) fn varyings_of_lanes<S: Shader, L: Lanes>(like: L, a: &AttrLanes) -> 
     v
 }
 
-/// [`shade_lanes`] in four lanes, compiled once per shader as [`shade4`] is.
+/// Pixels' attributes in one of the two layouts the pixel stage reads: rows, one pixel after
+/// another (`[Attrs; N]`, transposed on loading), or already in lanes ([`AttrLanes`]). The
+/// pixel stage and its wrappers are written once over this, so that the two layouts share
+/// every line but the load.
+pub(crate) trait Batch {
+    /// This batch's pixels as one-pixel-per-lane varyings of the kind of `like`.
+    fn varyings<S: Shader, L: Lanes>(&self, like: L) -> Varyings<L>;
+}
+
+impl<const N: usize> Batch for [Attrs; N] {
+    #[inline(always)]
+    fn varyings<S: Shader, L: Lanes>(&self, like: L) -> Varyings<L> {
+        varyings_of_rows::<S, L, N>(like, self)
+    }
+}
+
+impl Batch for AttrLanes {
+    #[inline(always)]
+    fn varyings<S: Shader, L: Lanes>(&self, like: L) -> Varyings<L> {
+        varyings_of_lanes::<S, L>(like, self)
+    }
+}
+
+/// A batch of eight pixels, which four-lane frames shade as two halves of four.
+pub(crate) trait Batch8: Batch {
+    /// Four pixels of this batch, in the layout four-lane calls read.
+    type Half: Batch;
+    /// `f` of the first four pixels and of the last four.
+    fn halves<R>(&self, f: impl FnOnce(&Self::Half, &Self::Half) -> R) -> R;
+}
+
+impl Batch8 for [Attrs; 8] {
+    type Half = [Attrs; 4];
+    #[inline(always)]
+    fn halves<R>(&self, f: impl FnOnce(&[Attrs; 4], &[Attrs; 4]) -> R) -> R {
+        let half = |at: usize| -> [Attrs; 4] { std::array::from_fn(|i| self[at + i]) };
+        f(&half(0), &half(4))
+    }
+}
+
+impl Batch8 for AttrLanes {
+    type Half = AttrLanes;
+    /// The first half is this batch itself (a four-lane load reads lanes 0 to 3); the second
+    /// is lanes 4 to 7 moved down, repeated so that every lane stays finite.
+    #[inline(always)]
+    fn halves<R>(&self, f: impl FnOnce(&AttrLanes, &AttrLanes) -> R) -> R {
+        let hi: AttrLanes = std::array::from_fn(|k| {
+            let r = &self[k];
+            [r[4], r[5], r[6], r[7], r[4], r[5], r[6], r[7]]
+        });
+        f(self, &hi)
+    }
+}
+
+/// [`shade`] in four lanes: the one copy of a shader's four-lane pixel stage per layout, which
+/// every pass shading four pixels at a time calls. Not inlined, so that the pixel stage, the
+/// largest code of a shader, is compiled once per shader and layout rather than once per call
+/// site.
 #[inline(never)]
-pub(crate) fn shade4_lanes<S: Shader>(
+pub(crate) fn shade4<S: Shader, B: Batch>(
     shader: &S,
-    a: &AttrLanes,
+    batch: &B,
     count: usize,
     ceiling: f32,
 ) -> [Vec3; 4] {
-    shade_lanes(shader, phosphor_lighting::f32x4::ZERO, a, count, ceiling)
+    shade(
+        shader,
+        phosphor_lighting::f32x4::ZERO,
+        batch,
+        count,
+        ceiling,
+    )
 }
 
-/// [`shade_rows`] of pixels whose attributes are already in lanes.
+/// The colours of `N` pixels from their attributes through [`Shader::pixel`] in lanes of the
+/// kind of `like` (`L::N == N`), clamped to `[0, ceiling]` with NaN and `-0.0` as `+0.0`: the
+/// values of [`crate::framebuffer::clamp_color_to`], computed for all lanes at once rather
+/// than for each pixel as it is written.
 #[inline(always)]
-pub(crate) fn shade_lanes<S: Shader, L: Lanes, const N: usize>(
+pub(crate) fn shade<S: Shader, L: Lanes, B: Batch, const N: usize>(
     shader: &S,
     like: L,
-    a: &AttrLanes,
+    batch: &B,
     count: usize,
     ceiling: f32,
 ) -> [Vec3; N] {
-    let c = shader.pixel(&varyings_of_lanes::<S, L>(like, a));
-    clamped_colors(c, count, ceiling)
-}
-
-/// [`shade_rows`] in four lanes: the one copy of a shader's four-lane pixel stage, which every
-/// pass shading four pixels at a time calls. Not inlined, so that the pixel stage, the
-/// largest code of a shader, is compiled once per shader rather than once per call site.
-#[inline(never)]
-pub(crate) fn shade4<S: Shader>(
-    shader: &S,
-    rows: &[Attrs; 4],
-    count: usize,
-    ceiling: f32,
-) -> [Vec3; 4] {
-    shade_rows(shader, phosphor_lighting::f32x4::ZERO, rows, count, ceiling)
-}
-
-/// The colours of `N` pixels from their attribute rows through [`Shader::pixel`] in lanes of
-/// the kind of `like` (`L::N == N`), clamped to `[0, ceiling]` with NaN and `-0.0` as `+0.0`:
-/// the values of [`crate::framebuffer::clamp_color_to`], computed for all lanes at once
-/// rather than for each pixel as it is written.
-#[inline(always)]
-pub(crate) fn shade_rows<S: Shader, L: Lanes, const N: usize>(
-    shader: &S,
-    like: L,
-    rows: &[Attrs; N],
-    count: usize,
-    ceiling: f32,
-) -> [Vec3; N] {
-    let c = shader.pixel(&varyings_of_rows::<S, L, N>(like, rows));
+    let c = shader.pixel(&batch.varyings::<S, L>(like));
     clamped_colors(c, count, ceiling)
 }
 
@@ -242,10 +280,10 @@ pub(crate) struct Wide {
 impl Wide {
     /// The colours of eight pixels: one AVX2 call, or two of four lanes.
     #[inline(always)]
-    pub fn shade8<S: Shader>(
+    pub fn shade8<S: Shader, B: Batch8>(
         self,
         shader: &S,
-        rows: &[Attrs; 8],
+        batch: &B,
         count: usize,
         ceiling: f32,
     ) -> [Vec3; 8] {
@@ -253,86 +291,39 @@ impl Wide {
         if let Some(avx2) = self.avx2 {
             return avx2.run(Shade8 {
                 shader,
-                rows,
+                batch,
                 count,
                 ceiling,
             });
         }
-        let half = |at: usize| -> [Attrs; 4] { std::array::from_fn(|i| rows[at + i]) };
-        let (lo, hi) = (half(0), half(4));
-        let (lo, hi) = (
-            shade4(shader, &lo, count.min(4), ceiling),
-            shade4(shader, &hi, count.saturating_sub(4), ceiling),
-        );
-        std::array::from_fn(|i| if i < 4 { lo[i] } else { hi[i - 4] })
-    }
-
-    /// [`Wide::shade8`] of eight pixels whose attributes are already in lanes.
-    #[inline(always)]
-    pub fn shade8_lanes<S: Shader>(
-        self,
-        shader: &S,
-        a: &AttrLanes,
-        count: usize,
-        ceiling: f32,
-    ) -> [Vec3; 8] {
-        #[cfg(target_arch = "x86_64")]
-        if let Some(avx2) = self.avx2 {
-            return avx2.run(Shade8Lanes {
-                shader,
-                a,
-                count,
-                ceiling,
-            });
-        }
-        let hi: AttrLanes = std::array::from_fn(|k| {
-            let r = &a[k];
-            [r[4], r[5], r[6], r[7], r[4], r[5], r[6], r[7]]
+        let (lo, hi) = batch.halves(|lo, hi| {
+            (
+                shade4(shader, lo, count.min(4), ceiling),
+                shade4(shader, hi, count.saturating_sub(4), ceiling),
+            )
         });
-        let (lo, hi) = (
-            shade4_lanes(shader, a, count.min(4), ceiling),
-            shade4_lanes(shader, &hi, count.saturating_sub(4), ceiling),
-        );
         std::array::from_fn(|i| if i < 4 { lo[i] } else { hi[i - 4] })
-    }
-}
-
-/// Eight pixels in lanes through a shader's pixel stage as one AVX2 task.
-#[cfg(target_arch = "x86_64")]
-struct Shade8Lanes<'a, S> {
-    shader: &'a S,
-    a: &'a AttrLanes,
-    count: usize,
-    ceiling: f32,
-}
-
-#[cfg(target_arch = "x86_64")]
-impl<S: Shader> phosphor_lighting::Avx2Task for Shade8Lanes<'_, S> {
-    type Output = [Vec3; 8];
-    #[inline(always)]
-    fn run(self, s: phosphor_lighting::Avx2) -> [Vec3; 8] {
-        shade_lanes(self.shader, s.splat(0.0), self.a, self.count, self.ceiling)
     }
 }
 
 /// Eight pixels of a shader's pixel stage as one AVX2 task.
 #[cfg(target_arch = "x86_64")]
-struct Shade8<'a, S> {
+struct Shade8<'a, S, B> {
     shader: &'a S,
-    rows: &'a [Attrs; 8],
+    batch: &'a B,
     count: usize,
     ceiling: f32,
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<S: Shader> phosphor_lighting::Avx2Task for Shade8<'_, S> {
+impl<S: Shader, B: Batch> phosphor_lighting::Avx2Task for Shade8<'_, S, B> {
     type Output = [Vec3; 8];
     #[inline(always)]
     fn run(self, s: phosphor_lighting::Avx2) -> [Vec3; 8] {
-        shade_rows(
+        shade(
             self.shader,
             s.splat(0.0),
-            self.rows,
+            self.batch,
             self.count,
             self.ceiling,
         )

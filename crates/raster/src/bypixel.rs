@@ -398,7 +398,7 @@ impl<S: Shader> phosphor_lighting::Avx2Task for WideRun<'_, '_, '_, S> {
     fn run(self, s: phosphor_lighting::Avx2) -> u64 {
         let (shader, wide) = (self.shader, crate::batch::Wide { avx2: Some(s) });
         let rows = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
-        let lanes = |a: &AttrLanes, count, ceiling| wide.shade8_lanes(shader, a, count, ceiling);
+        let lanes = |a: &AttrLanes, count, ceiling| wide.shade8(shader, a, count, ceiling);
         self.pass
             .shade_wide::<8, _, _>(self.color, self.layer, (&rows, &lanes))
     }

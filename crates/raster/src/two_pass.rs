@@ -7,7 +7,7 @@
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::batch::{AttrLanes, shade4, shade4_lanes};
+use crate::batch::{AttrLanes, shade4};
 use crate::bin::{Binned, TriRec};
 use crate::bypixel::ByPixel;
 use crate::clip::Attrs;
@@ -180,7 +180,7 @@ fn by_pixel_pass<S: Shader>(
     let shaded = if let Some(avx2) = input.wide.avx2 {
         let wide = input.wide;
         let rows = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
-        let lanes = |a: &AttrLanes, count, ceiling| wide.shade8_lanes(shader, a, count, ceiling);
+        let lanes = |a: &AttrLanes, count, ceiling| wide.shade8(shader, a, count, ceiling);
         if wide_attrs {
             #[cfg(target_arch = "x86_64")]
             {
@@ -203,7 +203,7 @@ fn by_pixel_pass<S: Shader>(
         }
     } else {
         let rows = |a: &[Attrs; 4], count, ceiling| shade4(shader, a, count, ceiling);
-        let lanes = |a: &AttrLanes, count, ceiling| shade4_lanes(shader, a, count, ceiling);
+        let lanes = |a: &AttrLanes, count, ceiling| shade4(shader, a, count, ceiling);
         if wide_attrs {
             pass.shade_wide::<4, _, _>(target.color, layer, (&rows, &lanes))
         } else {
