@@ -239,19 +239,16 @@ fn resolve_row<const K: usize>(
 ) {
     let stride = width * K;
     let n = color.len();
+    nearest_rows::<K>(depths, stride, lo, depth);
     let layer =
         layer.and_then(|(colors, split)| Some((colors.get(lo..lo + n)?, split.get(lo..lo + n)?)));
     let Some((colors, split)) = layer else {
-        for (i, (c, d)) in color.iter_mut().zip(depth.iter_mut()).enumerate() {
-            (*c, *d) = filter_pixel::<K, true>(rows, depths, stride, (lo + i) * K);
+        for (i, c) in color.iter_mut().enumerate() {
+            *c = mean_of::<K>(rows, stride, (lo + i) * K);
         }
         return;
     };
-    // In three streams: every depth, every colour the layer holds, then the split pixels'
-    // means over them.
-    for (i, d) in depth.iter_mut().enumerate() {
-        *d = filter_pixel::<K, false>(rows, depths, stride, (lo + i) * K).1;
-    }
+    // Every colour the layer holds, then the split pixels' means over them.
     color.copy_from_slice(colors);
     for (i, (c, _)) in color
         .iter_mut()
@@ -259,43 +256,59 @@ fn resolve_row<const K: usize>(
         .enumerate()
         .filter(|(_, (_, s))| **s != WHOLE)
     {
-        *c = filter_pixel::<K, true>(rows, depths, stride, (lo + i) * K).0;
+        *c = mean_of::<K>(rows, stride, (lo + i) * K);
     }
 }
 
-/// The mean colour (with `COLOR`; else zero) and the nearest depth of the `K x K` samples whose
-/// first is `x`, in rows `stride` long.
+/// The nearest depth of each of the `K x K` samples of output pixels `lo..lo + depth.len()`,
+/// into `depth`, from the `K` rows of depths `stride` long: row by row over whole slices, so
+/// that the minimum runs in vector lanes; each pixel's samples are taken rows first, then
+/// columns.
 #[inline(always)]
-fn filter_pixel<const K: usize, const COLOR: bool>(
-    rows: &[Vec3],
-    depths: &[f32],
-    stride: usize,
-    x: usize,
-) -> (Vec3, f32) {
-    let mut sums = [Vec3::ZERO; 16];
-    let mut nearest = f32::INFINITY;
+fn nearest_rows<const K: usize>(depths: &[f32], stride: usize, lo: usize, depth: &mut [f32]) {
+    depth.fill(f32::INFINITY);
     for sy in 0..K {
-        let at = sy * stride + x;
-        for sx in 0..K {
-            if COLOR {
-                sums[sy * K + sx] = rows[at + sx];
+        let start = sy * stride + lo * K;
+        let Some(row) = depths.get(start..start + depth.len() * K) else {
+            return;
+        };
+        for (d, samples) in depth.iter_mut().zip(row.chunks_exact(K)) {
+            for &s in samples {
+                *d = d.min(s);
             }
-            nearest = nearest.min(depths[at + sx]);
         }
     }
-    if !COLOR {
-        return (Vec3::ZERO, nearest);
-    }
-    let mut n = K * K;
-    while n > 1 {
-        n /= 2;
-        for j in 0..n {
-            sums[j] = sums[2 * j] + sums[2 * j + 1];
+}
+
+/// The mean colour of the `K x K` samples whose first is `x`, in rows `stride` long: each
+/// row's `K` samples summed pairwise, then the row sums pairwise (the tree of a pairwise sum
+/// over the samples in row order), so that equal samples give their value back exactly.
+#[inline(always)]
+fn mean_of<const K: usize>(rows: &[Vec3], stride: usize, x: usize) -> Vec3 {
+    let mut row_sums = [Vec3::ZERO; K];
+    for (sy, sum) in row_sums.iter_mut().enumerate() {
+        let at = sy * stride + x;
+        if let Some(samples) = rows.get(at..at + K) {
+            *sum = pairwise(std::array::from_fn::<Vec3, K, _>(|sx| samples[sx]));
         }
     }
     // Samples are clamped to [0, 1] (or [0, HDR_MAX]), so their mean is too, and the sum of
     // 16 of them is finite.
-    (sums[0] * (1.0 / (K * K) as f32), nearest)
+    pairwise(row_sums) * (1.0 / (K * K) as f32)
+}
+
+/// The sum of `v` as a pairwise tree: neighbours first, then neighbouring sums (`M` a power
+/// of two).
+#[inline(always)]
+fn pairwise<const M: usize>(mut v: [Vec3; M]) -> Vec3 {
+    let mut n = M;
+    while n > 1 {
+        n /= 2;
+        for j in 0..n {
+            v[j] = v[2 * j] + v[2 * j + 1];
+        }
+    }
+    v[0]
 }
 
 #[cfg(test)]

@@ -270,11 +270,13 @@ impl BlockOut<'_, '_> {
             return;
         }
         for sy in 0..K {
-            for sx in 0..K {
+            let row = base + sy * self.width;
+            let Some(row) = self.samples.get_mut(row..row + K) else {
+                continue;
+            };
+            for (sx, p) in row.iter_mut().enumerate() {
                 if mask & (1 << (sy * K + sx)) != 0 {
-                    if let Some(p) = self.samples.get_mut(base + sy * self.width + sx) {
-                        *p = c;
-                    }
+                    *p = c;
                 }
             }
         }
