@@ -137,6 +137,8 @@ impl ByPixel<'_> {
                 }
                 // An edge: once per triangle shown, at the centroid of its samples.
                 run = u64::MAX;
+                // The samples this pass leaves as they were: other draws', or the clear.
+                let mut keep = 0u16;
                 let mut left = all;
                 while left != 0 {
                     let first = left.trailing_zeros() as usize;
@@ -149,6 +151,7 @@ impl ByPixel<'_> {
                     }
                     left &= !mask;
                     let Some(p) = self.planes_of(id) else {
+                        keep |= mask;
                         continue;
                     };
                     let (cx, cy) = centroid::<K>(mask);
@@ -160,6 +163,7 @@ impl ByPixel<'_> {
                     }
                     shaded += 1;
                 }
+                out.split::<K>(base, pixel, keep);
             }
         }
         pending.flush_into(shade4, |at, c| out.write::<K>(at, c));
@@ -239,46 +243,63 @@ pub(crate) struct BlockOut<'o, 'l> {
 }
 
 impl BlockOut<'_, '_> {
-    /// Writes colour `c` to the samples `(base, pixel, mask)` of a `K x K` block: with a pixel
-    /// layer, a whole block to its pixel's colour (the pixel becomes whole) where the layer
-    /// keeps whole pixels, else to its samples; part of one to its samples, after the pixel's
-    /// own colour when it was whole (the pixel becomes split either way).
+    /// Writes colour `c` to the samples `(base, pixel, mask)` of a `K x K` block: a whole
+    /// block to its pixel's colour in the pixel layer (the pixel becomes whole), or to its
+    /// samples when the image has no layer; part of one to its samples, the block's pixel
+    /// being split already ([`BlockOut::split`]).
     #[inline(always)]
     fn write<const K: usize>(&mut self, (base, pixel, mask): BlockSamples, c: Vec3) {
-        let whole = mask == block_mask::<K>();
-        if let Some(layer) = &mut self.layer {
-            let (Some(color), Some(split)) =
+        if mask != block_mask::<K>() {
+            write_masked::<K>(self.samples, self.width, base, mask, c);
+        } else if let Some(layer) = &mut self.layer {
+            if let (Some(color), Some(split)) =
                 (layer.color.get_mut(pixel), layer.split.get_mut(pixel))
-            else {
-                return;
-            };
-            if whole {
-                if layer.keep_whole {
-                    (*color, *split) = (c, WHOLE);
-                } else {
-                    fill_block(self.samples, self.width, base, K, c);
-                    *split = SPLIT;
-                }
-                return;
+            {
+                (*color, *split) = (c, WHOLE);
             }
-            if *split == WHOLE {
-                fill_block(self.samples, self.width, base, K, *color);
-                *split = SPLIT;
-            }
-        } else if whole {
+        } else {
             fill_block(self.samples, self.width, base, K, c);
-            return;
         }
-        for sy in 0..K {
-            let row = base + sy * self.width;
-            let Some(row) = self.samples.get_mut(row..row + K) else {
-                continue;
-            };
-            for (sx, p) in row.iter_mut().enumerate() {
-                if mask & (1 << (sy * K + sx)) != 0 {
-                    *p = c;
-                }
-            }
+    }
+
+    /// Splits the pixel of an edge block (first sample `base`, pixel `pixel`) before or
+    /// after its triangles' colours are written: when the layer holds the pixel whole, its
+    /// colour goes to the samples in `keep`, the ones no triangle of this pass writes (the
+    /// others take their triangles' colours whenever those are written), and the pixel is
+    /// marked split.
+    #[inline(always)]
+    fn split<const K: usize>(&mut self, base: usize, pixel: usize, keep: u16) {
+        let Some(layer) = &mut self.layer else {
+            return;
+        };
+        let (Some(color), Some(split)) = (layer.color.get(pixel), layer.split.get_mut(pixel))
+        else {
+            return;
+        };
+        if *split == WHOLE {
+            write_masked::<K>(self.samples, self.width, base, keep, *color);
+            *split = SPLIT;
+        }
+    }
+}
+
+/// Writes `c` to the samples in `mask` (bit `sy * K + sx`) of the `K x K` block whose first
+/// sample is `base`, in rows `width` samples long: one step per sample in the mask, none for
+/// an empty one.
+#[inline(always)]
+fn write_masked<const K: usize>(
+    samples: &mut [Vec3],
+    width: usize,
+    base: usize,
+    mask: u16,
+    c: Vec3,
+) {
+    let mut left = mask;
+    while left != 0 {
+        let j = left.trailing_zeros() as usize;
+        left &= left - 1;
+        if let Some(p) = samples.get_mut(base + (j / K) * width + j % K) {
+            *p = c;
         }
     }
 }

@@ -93,10 +93,6 @@ fn two_pass<'s, S: Shader>(
     for (d, e) in dirty.iter_mut().zip(scratch.extents.iter()) {
         *d = (d.0.min(e.0), d.1.max(e.1));
     }
-    // Small triangles leave few pixels whole: their samples are written.
-    if let Some(layer) = &mut layer {
-        layer.keep_whole = !mostly_edges(&scratch.owns, &scratch.extents, block);
-    }
     let (mut shaded, mut traced) = (0, true);
     if !input.incremental || S::FACE == Face::Stepped {
         let out = (&mut target, layer.as_mut());
@@ -112,24 +108,6 @@ fn two_pass<'s, S: Shader>(
         shaded += visible_pass(input, b, &mut target, &scratch.owns, epoch);
     }
     shaded
-}
-
-/// Below this many pixels per visible triangle, a multisampled band's draw keeps no pixel
-/// whole ([`LayerRows::keep_whole`]): a triangle so small covers few pixels that no edge
-/// crosses, and a whole pixel that an edge then splits costs more than writing its samples.
-const WHOLE_PIXELS_MIN: usize = 24;
-
-/// Whether the visible records (`owns`) of a band cover fewer than [`WHOLE_PIXELS_MIN`] pixels
-/// each on average: the samples between the depth pass's `extents`, `block x block` a pixel,
-/// over the records.
-fn mostly_edges(owns: &[bool], extents: &[(u32, u32)], block: u32) -> bool {
-    let visible = owns.iter().filter(|&&o| o).count();
-    let samples: usize = extents
-        .iter()
-        .map(|&(lo, hi)| (hi as usize).saturating_sub(lo as usize))
-        .sum();
-    let per_pixel = (block * block) as usize;
-    samples < WHOLE_PIXELS_MIN * per_pixel * visible
 }
 
 /// Whether record `r` is shaded from the id buffer (interpolated, and not walked by the

@@ -7,8 +7,8 @@
 //! and averaging `k * k` equal colours back in the resolve costs memory traffic for nothing:
 //! most pixels are not on an edge. So such a pixel keeps one colour in the layer, and its
 //! samples' colours are not written, not cleared and not read. A pixel becomes split when a
-//! write covers only some of its samples: its colour is first copied to every sample, then the
-//! samples written. The resolve averages split pixels and copies the others; the sums of
+//! draw shows several triangles in it: its colour is copied to the samples the draw does not
+//! write, and the draw's triangles write the others. The resolve averages split pixels and copies the others; the sums of
 //! `k * k` equal colours give that colour back exactly (see [`crate::antialias`]), so either
 //! way the picture is the same.
 //!
@@ -55,7 +55,6 @@ impl PixelLayer {
             width: self.width,
             color: &mut self.color,
             split: &mut self.split,
-            keep_whole: true,
         }
     }
 
@@ -71,7 +70,6 @@ impl PixelLayer {
                 width,
                 color,
                 split,
-                keep_whole: true,
             })
     }
 }
@@ -87,10 +85,6 @@ pub(crate) struct LayerRows<'a> {
     pub color: &'a mut [Vec3],
     /// The rows' [`WHOLE`] / [`SPLIT`] marks.
     pub split: &'a mut [u8],
-    /// Whether a write that covers every sample of a pixel keeps the pixel whole; otherwise
-    /// it writes the samples and splits the pixel (a band of small triangles, where few
-    /// pixels would stay whole).
-    pub keep_whole: bool,
 }
 
 impl LayerRows<'_> {
