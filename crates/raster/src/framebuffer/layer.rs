@@ -8,9 +8,9 @@
 //! most pixels are not on an edge. So such a pixel keeps one colour in the layer, and its
 //! samples' colours are not written, not cleared and not read. A pixel becomes split when a
 //! draw shows several triangles in it: its colour is copied to the samples the draw does not
-//! write, and the draw's triangles write the others. The resolve averages split pixels and copies the others; the sums of
-//! `k * k` equal colours give that colour back exactly (see [`crate::antialias`]), so either
-//! way the picture is the same.
+//! write, and the draw's triangles write the others. The resolve averages split pixels and
+//! copies the others; the sums of `k * k` equal colours give that colour back exactly (see
+//! [`crate::antialias`]), so either way the picture is the same.
 //!
 //! The samples' depths are kept for every sample as before: coverage and the depth test need
 //! them.
