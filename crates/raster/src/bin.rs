@@ -15,7 +15,7 @@ use crate::setup::{ScreenPos, ScreenVertex, row_range, screen_area2};
 use crate::shader::{
     Face, MAX_VARYINGS, ScreenCorner, ScreenTriangle, Shader, Stepped, TriangleLanes,
 };
-use crate::vertex::{DrawVertices, VertexIn, gather, varyings_one};
+use crate::vertex::{DrawVertices, Used, VertexIn, gather, varyings_one};
 use crate::viewport::Viewport;
 
 /// Marks a [`TriRec`] vertex that lives in its chunk's [`Binned::extra`] (made by clipping).
@@ -127,6 +127,9 @@ pub(crate) struct BinInput<'a, S> {
     pub view: &'a Viewport,
     pub cull: bool,
     pub wide: Wide,
+    /// Where the vertices of the triangles recorded unclipped are marked (their varyings are
+    /// computed after this stage).
+    pub used: &'a Used,
 }
 
 /// Runs the bin stage of one draw on `threads`.
@@ -174,6 +177,7 @@ fn bin_chunk<S: Shader>(
     indices: &[[u32; 3]],
 ) -> (Binned<S::Stepped>, u64, u64) {
     let (shader, verts, view) = (input.shader, input.verts, input.view);
+    let marks = input.used.marks(verts.clip.len());
     let persp = view.perspective;
     let bands = view.height.div_ceil(view.band_rows) as usize;
     let mut staged: Vec<(TriRec, u32, u32)> = Vec::with_capacity(indices.len());
@@ -236,6 +240,12 @@ fn bin_chunk<S: Shader>(
                     stepped(&mut data, &p, &corners)
                 }
             };
+            if S::VARYINGS > 0 {
+                let [a, b, c] = i;
+                Used::mark(marks, a);
+                Used::mark(marks, b);
+                Used::mark(marks, c);
+            }
             staged.push((TriRec { v: *idx, tri }, b0, b1));
             continue;
         }

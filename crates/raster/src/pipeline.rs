@@ -11,7 +11,7 @@ use crate::framebuffer::Framebuffer;
 use crate::records::BandInput;
 use crate::shader::{Face, Shader};
 use crate::shaders::fill::Fill;
-use crate::vertex::vertex_stage;
+use crate::vertex::{Used, vertex_positions, vertex_varyings};
 use crate::viewport::Viewport;
 use crate::{Interpolation, MeshView, RenderOptions, RenderStats};
 
@@ -43,7 +43,7 @@ pub(crate) fn positions_only<'a>(mesh: &MeshView<'a>) -> MeshView<'a> {
 }
 
 /// Runs `shader` over one draw through the three stages: vertex, bin (both in parallel over
-/// the mesh, in order) and bands. `block`: samples per pixel side of a multisampled image (1:
+/// the mesh, in order; the varyings only for the vertices the bin stage recorded) and bands. `block`: samples per pixel side of a multisampled image (1:
 /// none); `count`: the coverage-count hook; `depth_only`: a constant-colour shader writes
 /// depth alone (a shadow map), and the colour is neither written nor cleared.
 pub(crate) fn run<S: Shader>(
@@ -59,7 +59,8 @@ pub(crate) fn run<S: Shader>(
         avx2: opts.simd.token(),
     };
     let threads = opts.threads;
-    let verts = vertex_stage(mesh, model, vp, shader, &view, (threads, wide));
+    let mut verts = vertex_positions(mesh, model, vp, &view, (threads, wide, S::VARYINGS > 0));
+    let used = Used::new(verts.clip.len(), S::VARYINGS > 0);
     let bin = BinInput {
         shader,
         indices: mesh.indices,
@@ -67,8 +68,10 @@ pub(crate) fn run<S: Shader>(
         view: &view,
         cull,
         wide,
+        used: &used,
     };
     let binned = bin_draw(&bin, threads);
+    vertex_varyings(&mut verts, shader, &used, (threads, wide));
     stats.triangles_in += mesh.indices.len() as u64;
     stats.triangles_drawn += binned.drawn;
     stats.fallbacks += binned.fallbacks;

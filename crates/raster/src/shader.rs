@@ -259,7 +259,9 @@ pub trait Shader: Sync {
     /// `VARYINGS + GRADIENT_SLOTS` must not exceed [`MAX_VARYINGS`].
     const GRADIENTS: Option<usize> = None;
 
-    /// The varyings of one vertex per lane.
+    /// The varyings of one vertex per lane. Called only for the vertices of triangles the
+    /// draw records (not culled, not degenerate, on screen), grouped into lanes in any way:
+    /// each lane's result must depend on its own vertex alone.
     fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L>;
 
     /// The colour of one triangle per lane ([`Face::Constant`]).

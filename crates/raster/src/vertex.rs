@@ -1,9 +1,14 @@
-//! Stage 1, VERTEX: every mesh vertex once (a vertex is shared by about six triangles), in
-//! parallel: model, view and projection; the normal by the inverse transpose; then, eight
-//! vertices at a time with AVX2 (else four), the shader's varyings ([`Shader::vertex`]) and,
-//! for a vertex inside every clip plane, its snapped screen position and varyings divided by
-//! `w`, stored compactly because the later stages fetch vertices from all over the mesh and a
-//! compact vertex spans fewer cache lines.
+//! Stage 1, VERTEX, in two halves around the bin stage. First every mesh vertex once (a
+//! vertex is shared by about six triangles), in parallel: model, view and projection; the
+//! normal by the inverse transpose; and, for a vertex inside every clip plane, its snapped
+//! screen position ([`vertex_positions`]). Then, after the bin stage has marked the vertices
+//! of the triangles it recorded, only those vertices' varyings ([`Shader::vertex`], eight
+//! vertices at a time with AVX2, else four), divided by `w` ([`vertex_varyings`]): a vertex
+//! that only culled or off-screen triangles share is never shaded. Both are stored compactly
+//! because the later stages fetch vertices from all over the mesh and a compact vertex spans
+//! fewer cache lines.
+
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 use phosphor_lighting::{F32x1, Lanes, Vec3s};
@@ -40,7 +45,12 @@ pub(crate) struct DrawVertices {
     pub clip: Vec<(Vec4, VertexIn)>,
     /// Snapped screen position per vertex ([`ScreenPos::NONE`] outside the clip volume).
     pub pos: Vec<ScreenPos>,
-    /// The shader's varyings, `S::VARYINGS` per vertex (divided by `w` when perspective).
+    /// Per vertex with a screen position, what its varyings are multiplied by (`1/w` when
+    /// perspective-correct, else 1: [`crate::setup::attr_scale`]); empty for a shader without
+    /// varyings.
+    scale: Vec<f32>,
+    /// The shader's varyings, `S::VARYINGS` per vertex (divided by `w` when perspective),
+    /// after [`vertex_varyings`]: only the vertices it marked hold them.
     pub attrs: Vec<f32>,
 }
 
@@ -93,32 +103,114 @@ pub(crate) fn gather<L: Lanes>(like: L, v: &[&VertexIn]) -> VertexLanes<L> {
     }
 }
 
-/// Runs the vertex stage of a draw of `mesh` (`model` to world, `vp` view-projection) for
-/// `shader` on `threads`.
-pub(crate) fn vertex_stage<S: Shader>(
+/// Runs the first half of the vertex stage of a draw of `mesh` (`model` to world, `vp`
+/// view-projection) on `threads`: every vertex's clip-space and world-space form and its
+/// screen position, and, for a shader with `varyings`, what they will be multiplied by. The
+/// varyings wait for [`vertex_varyings`], which computes them only for the vertices of
+/// triangles the bin stage recorded.
+pub(crate) fn vertex_positions(
     mesh: &MeshView,
     model: Mat4,
     vp: Mat4,
-    shader: &S,
     view: &Viewport,
-    (threads, wide): (usize, Wide),
+    (threads, wide, varyings): (usize, Wide, bool),
 ) -> DrawVertices {
     let clip = transform(mesh, model, vp, threads);
     let mut pos = vec![ScreenPos::NONE; clip.len()];
-    let n = S::VARYINGS;
-    let mut attrs = vec![0.0; clip.len() * n];
+    let mut scale = vec![0.0; if varyings { clip.len() } else { 0 }];
     for_each_chunk_pair(
         threads,
         &mut pos,
-        &mut attrs,
-        (4096, n),
-        |first, pos, attrs| {
+        &mut scale,
+        (4096, usize::from(varyings)),
+        |first, pos, scale| {
             let src = &clip[first..first + pos.len()];
-            let chunk = Chunk {
-                shader,
+            let chunk = Positions {
                 src,
                 view,
                 pos,
+                scale,
+            };
+            #[cfg(target_arch = "x86_64")]
+            if let Some(avx2) = wide.avx2 {
+                avx2.run(chunk);
+                return;
+            }
+            chunk.project();
+        },
+    );
+    DrawVertices {
+        clip,
+        pos,
+        scale,
+        attrs: Vec::new(),
+    }
+}
+
+/// Marks of the vertices whose varyings a draw reads: set by the bin stage (from its parallel
+/// chunks, hence atomic) for every vertex of a triangle it records unclipped.
+pub(crate) struct Used(Vec<AtomicBool>);
+
+impl Used {
+    /// No vertex marked, of `len`; none at all to mark when `needed` is false (a shader without
+    /// varyings).
+    pub fn new(len: usize, needed: bool) -> Used {
+        Used(if needed {
+            (0..len).map(|_| AtomicBool::new(false)).collect()
+        } else {
+            Vec::new()
+        })
+    }
+
+    /// The marks of a draw of `len` vertices: one per vertex, or none for a shader without
+    /// varyings.
+    #[inline(always)]
+    pub fn marks(&self, len: usize) -> &[AtomicBool] {
+        self.0.get(..len).unwrap_or(&[])
+    }
+
+    /// Marks vertex `i` of `marks` (from [`Used::marks`]; nothing when it has no such mark).
+    #[inline(always)]
+    pub fn mark(marks: &[AtomicBool], i: usize) {
+        if let Some(u) = marks.get(i) {
+            u.store(true, Ordering::Relaxed);
+        }
+    }
+}
+
+/// The second half of the vertex stage: `shader`'s varyings ([`Shader::vertex`]), divided by
+/// `w` as [`crate::setup::to_screen`] divides them, for the vertices `used` marks (eight
+/// marked vertices per call with AVX2, else four). A vertex that only back faces, off-screen
+/// or degenerate triangles share is never shaded: with back faces culled that is about half a
+/// closed mesh. Each vertex's values are the same bits as when
+/// every vertex was shaded (the lanes are independent).
+pub(crate) fn vertex_varyings<S: Shader>(
+    verts: &mut DrawVertices,
+    shader: &S,
+    used: &Used,
+    (threads, wide): (usize, Wide),
+) {
+    let n = S::VARYINGS;
+    if n == 0 {
+        return;
+    }
+    let mut attrs = vec![0.0; verts.clip.len() * n];
+    let chunk = 4096;
+    let (clip, scale) = (&verts.clip, &verts.scale);
+    for_each_chunk_pair(
+        threads,
+        &mut attrs,
+        &mut [] as &mut [u8],
+        (chunk * n, 0),
+        |first, attrs, _| {
+            let first = first / n;
+            let len = attrs.len() / n;
+            let chunk = Chunk {
+                shader,
+                first,
+                src: &clip[first..first + len],
+                scale: &scale[first..first + len],
+                used,
                 attrs,
             };
             #[cfg(target_arch = "x86_64")]
@@ -129,52 +221,99 @@ pub(crate) fn vertex_stage<S: Shader>(
             chunk.vary(phosphor_lighting::f32x4::ZERO);
         },
     );
-    DrawVertices { clip, pos, attrs }
+    verts.attrs = attrs;
 }
 
-/// One parallel chunk of the vertex stage.
-struct Chunk<'a, S> {
-    shader: &'a S,
+/// One parallel chunk of [`vertex_positions`].
+struct Positions<'a> {
     src: &'a [(Vec4, VertexIn)],
     view: &'a Viewport,
     pos: &'a mut [ScreenPos],
+    /// Empty for a shader without varyings.
+    scale: &'a mut [f32],
+}
+
+impl Positions<'_> {
+    /// The chunk's screen positions, [`LANES`] vertices per call.
+    #[inline(always)]
+    fn project(self) {
+        for (g, group) in self.src.chunks(LANES).enumerate() {
+            let base = g * LANES;
+            let mut scale = [0.0f32; LANES];
+            let clip: [Vec4; LANES] = std::array::from_fn(|k| group[k.min(group.len() - 1)].0);
+            let range = base..base + group.len();
+            self.view.screen_pos_lanes(
+                &clip[..group.len()],
+                &mut self.pos[range.clone()],
+                &mut scale,
+            );
+            if let Some(s) = self.scale.get_mut(range) {
+                s.copy_from_slice(&scale[..group.len()]);
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl phosphor_lighting::Avx2Task for Positions<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self, _: phosphor_lighting::Avx2) {
+        self.project();
+    }
+}
+
+/// One parallel chunk of [`vertex_varyings`]: the vertices `first..` of the draw.
+struct Chunk<'a, S> {
+    shader: &'a S,
+    first: usize,
+    src: &'a [(Vec4, VertexIn)],
+    scale: &'a [f32],
+    used: &'a Used,
     attrs: &'a mut [f32],
 }
 
 impl<S: Shader> Chunk<'_, S> {
-    /// Positions and varyings of the chunk's vertices, `L::N` at a time.
+    /// Varyings of the chunk's marked vertices, `L::N` of them per call.
     #[inline(always)]
-    fn vary<L: Lanes>(self, like: L) {
-        let n = S::VARYINGS;
-        for (g, group) in self.src.chunks(L::N).enumerate() {
-            let base = g * L::N;
-            let mut scale = [0.0f32; LANES];
-            let clip: [Vec4; LANES] = std::array::from_fn(|k| group[k.min(group.len() - 1)].0);
-            let on_screen = self.view.screen_pos_lanes(
-                &clip[..group.len()],
-                &mut self.pos[base..base + group.len()],
-                &mut scale,
-            );
-            if n == 0 || !on_screen {
-                continue;
-            }
-            let refs: [&VertexIn; 8] = std::array::from_fn(|k| &group[k.min(group.len() - 1)].1);
-            let out = self.shader.vertex(&gather(like, &refs[..L::N]));
-            // Scaled as `to_screen` scales them (one IEEE product per value).
-            let scale = like.with_lanes(scale);
-            let mut cols = [[0.0f32; 8]; MAX_ATTRS];
-            for k in 0..n {
-                cols[k] = (out[k] * scale).to_lanes();
-            }
-            for (j, pos) in self.pos[base..base + group.len()].iter().enumerate() {
-                if pos.is_none() {
-                    continue;
+    fn vary<L: Lanes>(mut self, like: L) {
+        let mut group = [0usize; 8];
+        let mut len = 0;
+        let marks = self.used.0.get(self.first..self.first + self.src.len());
+        for (j, u) in marks.unwrap_or(&[]).iter().enumerate() {
+            if u.load(Ordering::Relaxed) {
+                group[len] = j;
+                len += 1;
+                if len == L::N {
+                    self.shade(like, &group[..len]);
+                    len = 0;
                 }
-                let at = (base + j) * n;
-                if let Some(row) = self.attrs.get_mut(at..at + n) {
-                    for (k, a) in row.iter_mut().enumerate() {
-                        *a = cols[k][j];
-                    }
+            }
+        }
+        if len > 0 {
+            self.shade(like, &group[..len]);
+        }
+    }
+
+    /// Varyings of the chunk's vertices `group` (at least one, at most `L::N`; each has a
+    /// screen position, as every marked vertex does).
+    #[inline(always)]
+    fn shade<L: Lanes>(&mut self, like: L, group: &[usize]) {
+        let n = S::VARYINGS;
+        let last = group.len() - 1;
+        let at = |k: usize| group[k.min(last)];
+        let refs: [&VertexIn; 8] = std::array::from_fn(|k| &self.src[at(k)].1);
+        let out = self.shader.vertex(&gather(like, &refs[..L::N]));
+        // Scaled as `to_screen` scales them (one IEEE product per value).
+        let scale = like.with_lanes(std::array::from_fn(|k| self.scale[at(k)]));
+        let mut cols = [[0.0f32; 8]; MAX_ATTRS];
+        for k in 0..n {
+            cols[k] = (out[k] * scale).to_lanes();
+        }
+        for (j, &v) in group.iter().enumerate() {
+            if let Some(row) = self.attrs.get_mut(v * n..(v + 1) * n) {
+                for (k, a) in row.iter_mut().enumerate() {
+                    *a = cols[k][j];
                 }
             }
         }
@@ -235,4 +374,113 @@ fn transform(mesh: &MeshView, model: Mat4, vp: Mat4, threads: usize) -> Vec<(Vec
         }
         (clip, v)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    use glam::{Mat4, Vec3};
+    use phosphor_lighting::{Lanes, Vec3s};
+
+    use super::*;
+    use crate::shader::Varyings;
+    use crate::tests::support::uv_sphere;
+    use crate::{Camera, Frame, Framebuffer, RenderOptions, SimdLevel};
+
+    /// Position and normal as varyings; counts the vertices [`Shader::vertex`] was called for.
+    struct Counting(AtomicUsize);
+
+    impl Shader for Counting {
+        const VARYINGS: usize = 6;
+        type Stepped = ();
+        fn vertex<L: Lanes>(&self, v: &VertexLanes<L>) -> Varyings<L> {
+            self.0.fetch_add(L::N, Ordering::Relaxed);
+            let mut out = [v.normal.x.splat(0.0); 16];
+            let (p, n) = (v.position, v.normal);
+            [out[0], out[1], out[2]] = [p.x, p.y, p.z];
+            [out[3], out[4], out[5]] = [n.x, n.y, n.z];
+            out
+        }
+        fn pixel<L: Lanes>(&self, v: &Varyings<L>) -> Vec3s<L> {
+            let half = v[0].splat(0.5);
+            Vec3s::new(v[3] * half + half, v[4] * half + half, v[5] * half + half)
+        }
+    }
+
+    /// The marked vertices' varyings are the same bits whichever other vertices are marked,
+    /// at both lane widths, and an unmarked vertex is never shaded (left at zero).
+    #[test]
+    fn varyings_of_marked_vertices_do_not_depend_on_the_others() {
+        let mesh = uv_sphere(1.0, 40, 20);
+        let view = Viewport::new(320, 240, true, 1);
+        let vp = Camera::s1().view_proj(320.0 / 240.0);
+        let shader = Counting(AtomicUsize::new(0));
+        for simd in [SimdLevel::Baseline, SimdLevel::Auto] {
+            let wide = Wide { avx2: simd.token() };
+            let vary = |marked: &dyn Fn(usize) -> bool| {
+                let mut verts =
+                    vertex_positions(&mesh.view(), Mat4::IDENTITY, vp, &view, (1, wide, true));
+                let used = Used::new(verts.clip.len(), true);
+                for i in (0..verts.clip.len()).filter(|&i| marked(i)) {
+                    Used::mark(used.marks(verts.clip.len()), i);
+                }
+                vertex_varyings(&mut verts, &shader, &used, (1, wide));
+                verts.attrs
+            };
+            let marked = |i: usize| i % 23 == 0 || (100..140).contains(&i);
+            let all = vary(&|_| true);
+            let some = vary(&marked);
+            let n = Counting::VARYINGS;
+            let (mut compared, mut skipped) = (0, 0);
+            for i in 0..all.len() / n {
+                let (a, s) = (&all[i * n..(i + 1) * n], &some[i * n..(i + 1) * n]);
+                if marked(i) {
+                    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(a), bits(s), "vertex {i} ({simd:?})");
+                    compared += usize::from(a.iter().any(|&x| x != 0.0));
+                } else {
+                    assert!(s.iter().all(|&x| x == 0.0), "vertex {i} ({simd:?})");
+                    skipped += usize::from(a.iter().any(|&x| x != 0.0));
+                }
+            }
+            assert!(compared > 40, "only {compared} marked vertices on screen");
+            assert!(skipped > 200, "only {skipped} vertices on screen skipped");
+        }
+    }
+
+    /// With back faces culled, a closed sphere seen from outside shades the varyings of little
+    /// more than its front half, and draws the same picture as with both sides drawn.
+    #[test]
+    fn culled_back_faces_leave_their_vertices_unshaded() {
+        let mesh = uv_sphere(1.0, 64, 32);
+        let draw = |cull: bool| {
+            let shader = Counting(AtomicUsize::new(0));
+            let mut fb = Framebuffer::new(200, 150).expect("framebuffer");
+            let opts = RenderOptions {
+                threads: 2,
+                ..RenderOptions::default()
+            };
+            let mut frame = Frame::new(&mut fb, &Camera::s1(), &opts);
+            frame.draw(&mesh.view(), Mat4::IDENTITY, &shader, cull);
+            frame.finish();
+            let px: Vec<Vec3> = (0..150)
+                .flat_map(|y| (0..200).map(move |x| (x, y)))
+                .map(|(x, y)| fb.pixel(x, y))
+                .collect();
+            (shader.0.into_inner(), px)
+        };
+        let (both, both_px) = draw(false);
+        let (culled, culled_px) = draw(true);
+        let total = mesh.positions.len();
+        assert!(
+            both * 20 >= total * 19,
+            "both sides: {both} of {total} vertices shaded"
+        );
+        assert!(
+            culled * 10 < total * 7,
+            "culled: {culled} of {total} vertices shaded"
+        );
+        assert!(both_px == culled_px, "the pictures differ");
+    }
 }

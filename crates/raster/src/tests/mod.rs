@@ -6,5 +6,5 @@ mod interpolation;
 mod modes;
 mod simd;
 mod stability;
-mod support;
+pub(crate) mod support;
 mod variants;
