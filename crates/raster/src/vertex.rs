@@ -428,7 +428,7 @@ mod tests {
                 vertex_varyings(&mut verts, &shader, &used, (1, wide));
                 verts.attrs
             };
-            let marked = |i: usize| i % 23 == 0 || (100..140).contains(&i);
+            let marked = |i: usize| i.is_multiple_of(23) || (100..140).contains(&i);
             let all = vary(&|_| true);
             let some = vary(&marked);
             let n = Counting::VARYINGS;
