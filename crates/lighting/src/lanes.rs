@@ -304,6 +304,14 @@ mod avx2 {
             self.0.vectorize(Call(task, self))
         }
 
+        /// The `pulp` token this proof wraps, for a caller's own AVX2 intrinsics (the
+        /// rasterizer's integer coverage masks).
+        #[inline(always)]
+        #[must_use]
+        pub fn v3(self) -> V3 {
+            self.0
+        }
+
         /// `x` in all eight lanes.
         #[inline(always)]
         #[must_use]

@@ -18,10 +18,12 @@ use rayon::prelude::*;
 use crate::coverage::BandTarget;
 use crate::framebuffer::layer::LayerRows;
 use crate::framebuffer::{Framebuffer, clear_rows, same_color};
+use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes, for_bits};
 use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
 use crate::shader::{Face, Shader};
+use crate::traverse::Solid;
 use crate::two_pass::draw_two_pass;
 use crate::viewport::{BAND_ROWS, band_rows};
 
@@ -153,19 +155,22 @@ fn draw_single<S: Shader>(input: &BandInput<S>, b: usize, target: &mut BandTarge
     if let (true, Some(avx2)) = (one_pass::<S>(), input.wide.avx2) {
         return avx2.run(SingleRun { input, b, target });
     }
-    single_loop::<S, false>(input, b, target)
+    single_loop::<S, false, _>(input, b, target, Portable)
 }
 
 /// [`draw_single`]'s loop over the records; `INLINE`: with the traversal inlined
 /// ([`BandInput::draw`]).
 #[inline(always)]
-fn single_loop<S: Shader, const INLINE: bool>(
+fn single_loop<S: Shader, const INLINE: bool, R: RowLanes>(
     input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
+    lanes: R,
 ) -> u64 {
+    if S::FACE == Face::Constant && !target.count {
+        return constant_loop::<S, INLINE, R>(input, b, target, lanes);
+    }
     let n = S::VARYINGS;
-    let n = if S::FACE == Face::Constant { 0 } else { n };
     let mut t = RasterTri::empty();
     let mut batched = input.batched();
     let (mut shaded, mut sink) = (0, 0);
@@ -178,6 +183,65 @@ fn single_loop<S: Shader, const INLINE: bool>(
         }
     }
     std::hint::black_box(sink);
+    shaded
+}
+
+/// [`single_loop`] for a constant colour per triangle (or depth alone): eight records set up
+/// at a time, the small ones drawn from their lanes ([`Group`]), the others one by one, in
+/// order.
+#[inline(always)]
+fn constant_loop<S: Shader, const INLINE: bool, R: RowLanes>(
+    input: &BandInput<S>,
+    b: usize,
+    target: &mut BandTarget,
+    lanes: R,
+) -> u64 {
+    let mut t = RasterTri::empty();
+    let mut batched = input.batched();
+    let mut shaded = 0;
+    let (width, y0) = (target.width as usize, target.y0);
+    for (c, recs) in input.records(b) {
+        for group in recs.chunks(LANES) {
+            let g = Group::set(group, input.pos, target.width, (y0, target.y1));
+            let mut marks = Marks::NONE;
+            for (k, r) in group.iter().enumerate() {
+                match g.kind[k] {
+                    Kind::Small => {
+                        let (color, depth) = (&mut *target.color, &mut *target.depth);
+                        let band = (depth, width, y0);
+                        shaded += u64::from(if input.depth_only {
+                            g.draw(lanes, k, band, |_, _| {})
+                        } else {
+                            let rgb = c.colors.get(r.tri as usize).copied();
+                            let Solid(rgb) = Solid::of(rgb.unwrap_or(Vec3::ZERO), input.ceiling);
+                            g.draw(lanes, k, band, |at, passed| {
+                                match color
+                                    .get_mut(at..at + LANES)
+                                    .map(<&mut [Vec3; LANES]>::try_from)
+                                {
+                                    Some(Ok(px)) => for_bits(passed, |j| px[j & 7] = rgb),
+                                    _ => for_bits(passed, |j| {
+                                        if let Some(px) = color.get_mut(at + j) {
+                                            *px = rgb;
+                                        }
+                                    }),
+                                }
+                            })
+                        });
+                        // Its spans are marked whether or not they passed the depth test.
+                        marks.add(g.bounds(k));
+                    }
+                    Kind::Empty => {}
+                    Kind::Other => {
+                        if input.setup(&mut t, c, r, 0) {
+                            shaded += input.draw::<INLINE>(&t, (c, r), target, &mut batched);
+                        }
+                    }
+                }
+            }
+            marks.apply(target.dirty, y0);
+        }
+    }
     shaded
 }
 
@@ -194,7 +258,7 @@ struct SingleRun<'p, 'a, 't, S: Shader> {
 impl<S: Shader> phosphor_lighting::Avx2Task for SingleRun<'_, '_, '_, S> {
     type Output = u64;
     #[inline(always)]
-    fn run(self, _: phosphor_lighting::Avx2) -> u64 {
-        single_loop::<S, true>(self.input, self.b, self.target)
+    fn run(self, avx2: phosphor_lighting::Avx2) -> u64 {
+        single_loop::<S, true, _>(self.input, self.b, self.target, avx2.v3())
     }
 }

@@ -125,9 +125,39 @@ pub(crate) fn pixel_drawn<const VISIBLE: bool>(
     }
 }
 
+/// The depth stored for a pixel that passed: `depth` as f32, with negatives (a rounding just
+/// in front of the near plane), -0 and NaN stored as 0. A compare-select, so the lanes of
+/// [`crate::group`] store the same bits.
 #[inline(always)]
 pub(crate) fn depth_stored(depth: f64) -> f32 {
-    depth.max(0.0) as f32
+    let d = depth as f32;
+    if d > 0.0 { d } else { 0.0 }
+}
+
+/// The depth of triangle `t` at the centre of pixel `(x, y)`: the row's part first, then the
+/// column's, `(z0 + dy zy) + dx zx` with `dx = (x + 0.5) - origin.x` and
+/// `dy = (y + 0.5) - origin.y`. Every pass evaluates this one formula at every pixel (none
+/// steps it along a span), so a pixel's depth is the same bits whichever pass, walker or lane
+/// width computes it; the row's part ([`depth_row`]) is shared by a span's pixels.
+#[cfg_attr(
+    not(test),
+    expect(dead_code, reason = "the formula's statement; passes use its parts")
+)]
+#[inline(always)]
+pub(crate) fn depth_at(t: &RasterTri, x: i64, y: i64) -> f64 {
+    depth_row(t, y) + depth_col(t, x)
+}
+
+/// [`depth_at`]'s row part, `z0 + ((y + 0.5) - origin.y) zy`.
+#[inline(always)]
+pub(crate) fn depth_row(t: &RasterTri, y: i64) -> f64 {
+    t.depth[0] + ((y as f64 + 0.5) - t.origin.1) * t.depth[2]
+}
+
+/// [`depth_at`]'s column part, `((x + 0.5) - origin.x) zx`.
+#[inline(always)]
+pub(crate) fn depth_col(t: &RasterTri, x: i64) -> f64 {
+    ((x as f64 + 0.5) - t.origin.0) * t.depth[1]
 }
 
 /// The iteration every pass shares: the rows of `t` inside band rows `[y0, y1)`, its columns
@@ -277,17 +307,16 @@ pub fn depth_only(
         y1,
         #[inline(always)]
         |y, xs, xe| {
-            let (ox, oy) = (xs as f64 + 0.5 - t.origin.0, y as f64 + 0.5 - t.origin.1);
-            let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
+            let base = depth_row(t, y);
             let before = written;
             let row = ((y - y0) as usize) * width;
-            for idx in row + xs as usize..row + xe as usize {
+            for x in xs..xe {
+                let (idx, depth) = (row + x as usize, base + depth_col(t, x));
                 if depth_passes(depth, stored[idx]) {
                     stored[idx] = depth_stored(depth);
                     ids[idx] = id;
                     written += 1;
                 }
-                depth += t.depth[1];
             }
             if written > before {
                 if let Some(e) = extents.get_mut((y - y0) as usize) {

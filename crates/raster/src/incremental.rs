@@ -7,7 +7,9 @@
 //! pixel, all in `f32`, as a 1970s implementation would hold them.
 
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, pixel_drawn};
+use crate::coverage::{
+    BandTarget, Pass, depth_col, depth_row, depth_stored, for_each_span, pixel_drawn,
+};
 use crate::setup::RasterTri;
 use crate::traverse::SpanShade;
 
@@ -163,13 +165,13 @@ fn incremental_impl<K: SpanShade, const VISIBLE: bool>(
             dv[k] = if d.is_finite() { d } else { 0.0 };
             v[k] += offset * dv[k];
         }
-        let (ox, oy) = (xs as f64 + 0.5 - t.origin.0, y as f64 + 0.5 - t.origin.1);
-        let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
+        let base = depth_row(t, y);
         let mut state = shade.span(xs as f64 + 0.5, y as f64 + 0.5);
         let row = ((y - y0) as usize) * width as usize;
         let mut out: Attrs = [0.0; MAX_ATTRS];
         for x in xs..xe {
             let idx = row + x as usize;
+            let depth = if VISIBLE { 0.0 } else { base + depth_col(t, x) };
             let draw = pixel_drawn::<VISIBLE>(target, idx, id, depth);
             if draw {
                 let w = if perspective && v[n] != 0.0 {
@@ -188,7 +190,6 @@ fn incremental_impl<K: SpanShade, const VISIBLE: bool>(
                 }
                 shaded += 1;
             }
-            depth += t.depth[1];
             for k in 0..=n {
                 v[k] += dv[k];
             }

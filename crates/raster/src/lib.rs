@@ -77,6 +77,7 @@ pub(crate) mod clip;
 pub(crate) mod coverage;
 pub mod encode;
 pub mod framebuffer;
+pub(crate) mod group;
 pub(crate) mod incremental;
 pub(crate) mod multisample;
 pub mod overlay;

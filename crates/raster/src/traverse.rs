@@ -17,7 +17,9 @@ use phosphor_lighting::F32x1;
 
 use crate::batch::{Pending, shade4};
 use crate::clip::{Attrs, MAX_ATTRS};
-use crate::coverage::{BandTarget, Pass, depth_stored, for_each_span, lanes, pixel_drawn};
+use crate::coverage::{
+    BandTarget, Pass, depth_col, depth_row, depth_stored, for_each_span, lanes, pixel_drawn,
+};
 use crate::framebuffer::clamp_color_to;
 use crate::setup::RasterTri;
 use crate::shader::{Shader, Varyings, interpolated};
@@ -204,7 +206,7 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let xc = x_start as f64 + 0.5;
     let yc = y as f64 + 0.5;
     let (ox, oy) = (xc - t.origin.0, yc - t.origin.1);
-    let mut depth = t.depth[0] + ox * t.depth[1] + oy * t.depth[2];
+    let base = depth_row(t, y);
     let (mut inv_w, mut attrs) =
         planes_at(&t.inv_w, [&t.attr0, &t.attr_dx, &t.attr_dy], (ox, oy), n);
     let mut state = shade.span(xc, yc);
@@ -216,6 +218,8 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     let mut shaded = 0;
     for x in x_start..x_end {
         let idx = row + x as usize;
+        // The visible pass reads no depth: the depth pass left the ids.
+        let depth = if VISIBLE { 0.0 } else { base + depth_col(t, x) };
         if pixel_drawn::<VISIBLE>(target, idx, id, depth) {
             let w = if PERSPECTIVE && n > 0 {
                 (1.0 / inv_w) as f32
@@ -228,7 +232,6 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
             }
             shaded += 1;
         }
-        depth += t.depth[1];
         if PERSPECTIVE && n > 0 {
             inv_w += t.inv_w[1];
         }

@@ -13,6 +13,7 @@ use crate::bypixel::ByPixel;
 use crate::clip::Attrs;
 use crate::coverage::{BandTarget, Pass, depth_only, lanes};
 use crate::framebuffer::layer::LayerRows;
+use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes, for_bits};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
 use crate::shader::{Face, Shader, interpolated};
@@ -214,7 +215,7 @@ fn depth_pass<S: Shader>(
             epoch,
         });
     }
-    depth_loop(input, b, target, ids, extents, epoch)
+    depth_loop(input, b, target, ids, extents, epoch, Portable)
 }
 
 /// [`depth_pass`] as one AVX2 function.
@@ -232,7 +233,7 @@ struct DepthRun<'p, 'a, 't, S: Shader> {
 impl<S: Shader> phosphor_lighting::Avx2Task for DepthRun<'_, '_, '_, S> {
     type Output = usize;
     #[inline(always)]
-    fn run(self, _: phosphor_lighting::Avx2) -> usize {
+    fn run(self, avx2: phosphor_lighting::Avx2) -> usize {
         let Self {
             input,
             b,
@@ -241,32 +242,63 @@ impl<S: Shader> phosphor_lighting::Avx2Task for DepthRun<'_, '_, '_, S> {
             extents,
             epoch,
         } = self;
-        depth_loop(input, b, target, ids, extents, epoch)
+        depth_loop(input, b, target, ids, extents, epoch, avx2.v3())
     }
 }
 
 /// [`depth_pass`]'s loop over the records.
 #[inline(always)]
-fn depth_loop<S: Shader>(
+fn depth_loop<S: Shader, R: RowLanes>(
     input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
     ids: &mut [u64],
     extents: &mut [(u32, u32)],
     epoch: u64,
+    lanes: R,
 ) -> usize {
     let mut t = RasterTri::empty();
-    let (mut seq, mut sink) = (epoch, 0);
+    let mut seq = epoch;
+    let (width, y0) = (target.width as usize, target.y0);
     for (c, recs) in input.records(b) {
-        for (i, r) in recs.iter().enumerate() {
-            sink ^= input.touch(recs.get(i + AHEAD), 0);
-            if input.setup(&mut t, c, r, 0) {
-                depth_only(&t, target, ids, extents, seq);
+        // Eight records set up at a time; the small ones drawn from their lanes, the others
+        // one by one, in order.
+        for group in recs.chunks(LANES) {
+            let g = Group::set(group, input.pos, target.width, (y0, target.y1));
+            let mut marks = Marks::NONE;
+            for (k, r) in group.iter().enumerate() {
+                match g.kind[k] {
+                    Kind::Small => {
+                        let band = (&mut *target.depth, width, y0);
+                        let passed = g.draw(lanes, k, band, |at, passed| {
+                            match ids
+                                .get_mut(at..at + LANES)
+                                .map(<&mut [u64; LANES]>::try_from)
+                            {
+                                Some(Ok(ids)) => for_bits(passed, |j| ids[j & 7] = seq),
+                                _ => for_bits(passed, |j| {
+                                    if let Some(id) = ids.get_mut(at + j) {
+                                        *id = seq;
+                                    }
+                                }),
+                            }
+                        });
+                        if passed > 0 {
+                            marks.add(g.bounds(k));
+                        }
+                    }
+                    Kind::Empty => {}
+                    Kind::Other => {
+                        if input.setup(&mut t, c, r, 0) {
+                            depth_only(&t, target, ids, extents, seq);
+                        }
+                    }
+                }
+                seq += 1;
             }
-            seq += 1;
+            marks.apply(extents, y0);
         }
     }
-    std::hint::black_box(sink);
     (seq - epoch) as usize
 }
 

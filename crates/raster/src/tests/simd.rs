@@ -1,5 +1,6 @@
-//! Every SIMD level this CPU runs gives the same picture, bit for bit: `phong`'s by-pixel pass
-//! and `gouraud`'s vertices at four lanes (the baseline) and at eight (AVX2), across
+//! Every SIMD level this CPU runs gives the same picture, bit for bit: `phong`'s by-pixel pass,
+//! `gouraud`'s vertices and the small triangles' coverage and depth in lanes (`flat`, and every
+//! depth pass) with `wide`'s vectors (the baseline) and with AVX2, across
 //! perspective and screen-linear attributes, multisampling, culling, thread counts and image
 //! widths that leave partly filled groups; stepped triangles and textured draws too.
 
@@ -42,10 +43,9 @@ fn every_level_this_cpu_runs_draws_the_same_bits() {
             .with_fresnel(Fresnel::Schlick { f0: 0.04 })
             .unwrap(),
     ];
-    for (material, mode) in materials
-        .iter()
-        .flat_map(|m| [(m, ShadingMode::Phong), (m, ShadingMode::Gouraud)])
-    {
+    for (material, mode) in materials.iter().flat_map(|m| {
+        [ShadingMode::Phong, ShadingMode::Gouraud, ShadingMode::Flat].map(|mode| (m, mode))
+    }) {
         let draws = [item(&mesh, material, &lights, mode)];
         for (size, perspective, aa, cull, threads) in [
             ((97, 61), true, Antialias::Off, false, 1),

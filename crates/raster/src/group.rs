@@ -1,0 +1,483 @@
+//! Small triangles eight at a time: the set-up of a band's records in lanes ([`Group::set`]:
+//! positions gathered once, then area, orientation, edges, pixel box and depth plane as one
+//! operation per lane), then each small triangle's box tested a row at a time as a coverage
+//! mask of eight columns, with the depths of those eight pixels computed, tested and written
+//! as vectors ([`Group::draw`]). Most triangles of a real mesh cover a few pixels, and for
+//! them the one-triangle path's set-up and per-span book-keeping cost more than the pixels.
+//!
+//! A triangle is *small* when its vertices lie less than [`MAX_DX`] apart across and
+//! [`MAX_DY`] down: then its box spans at most eight columns, and every edge value over that
+//! box and the eight columns from its first (edges taken relative to their own vertices) fits
+//! in `i32`. Other records (larger, or with vertices made by clipping) are left to
+//! [`crate::setup::RasterTri`] and [`crate::coverage::for_each_span`], in the same order.
+//!
+//! Nothing changes in the picture: the edge values are the same integers as
+//! [`crate::setup::RasterTri`]'s (`a X + b Y + c` with `c = -(a px + b py) - bias`, here
+//! `a (X - px) + b (Y - py) - bias`), with its top-left rule; the depth plane is computed with
+//! its operations in its vertex order; and a pixel's depth is [`crate::coverage::depth_at`]'s
+//! formula, tested and stored as [`crate::coverage::depth_passes`] and
+//! [`crate::coverage::depth_stored`] do. Every lane operation is the IEEE or integer one, so the
+//! baseline and AVX2 builds of these loops agree bit for bit too.
+
+use phosphor_math::fixed::SUBPIXEL_ONE;
+
+use crate::bin::{EXTRA_VERTEX, TriRec};
+use crate::setup::ScreenPos;
+
+/// Records set up per call: one vector of eight lanes.
+pub(crate) const LANES: usize = 8;
+
+/// A small triangle's vertices lie less than this far apart across (fixed point): fewer than
+/// eight pixel centres fit between them, so the box has at most eight columns.
+const MAX_DX: i32 = 8 * SUBPIXEL_ONE as i32;
+/// ... and less than this far apart down. Over the box and up to 16 columns from a vertex,
+/// `|a dX| < 2^14 2^12` and `|b dY| < 2^11 2^15`: every edge value fits in `i32`.
+const MAX_DY: i32 = 64 * SUBPIXEL_ONE as i32;
+
+const HALF: i32 = SUBPIXEL_ONE as i32 / 2;
+const INV_ONE: f64 = 1.0 / SUBPIXEL_ONE as f64;
+
+/// What happens to a record of a group.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Kind {
+    /// Small, with pixels in the band: drawn by [`Group::draw`].
+    Small,
+    /// Nothing to draw in this band: no area, or its box misses the band or the image.
+    Empty,
+    /// Drawn by the one-triangle path.
+    Other,
+}
+
+/// Up to [`LANES`] records of a band set up together: per lane the box inside the band, the
+/// edge values at its first pixel and their steps, and the depth plane.
+pub(crate) struct Group {
+    /// Per record.
+    pub kind: [Kind; LANES],
+    /// First column of the box inside the image.
+    lo: [i32; LANES],
+    /// One past its last column inside the image.
+    hi: [i32; LANES],
+    /// Bit `j` set where column `lo + j` is inside the box and the image.
+    cols: [u32; LANES],
+    /// Rows `[ylo, yhi)` of the box inside the band.
+    ylo: [i32; LANES],
+    yhi: [i32; LANES],
+    /// Edge `i` at the centre of pixel `(lo, ylo)`, with the fill-rule bias.
+    e: [[i32; LANES]; 3],
+    /// Edge `i`'s step per column and per row (`a`, `b` times a pixel).
+    col: [[i32; LANES]; 3],
+    row: [[i32; LANES]; 3],
+    /// The depth plane: origin, depth there, d/dx, d/dy.
+    origin: [[f64; LANES]; 2],
+    z: [[f64; LANES]; 3],
+}
+
+impl Group {
+    /// Sets up `recs` (at most [`LANES`]) for the band of rows `[y0, y1)` of an image `width`
+    /// pixels wide, from the draw's screen positions `pos`.
+    #[inline(always)]
+    pub(crate) fn set(
+        recs: &[TriRec],
+        pos: &[ScreenPos],
+        width: u32,
+        (y0, y1): (i64, i64),
+    ) -> Group {
+        // Gathered: each vertex's fixed-point position and depth. A record with a vertex made
+        // by clipping, or without a screen position, is left to the one-triangle path.
+        let mut fx = [[0i32; LANES]; 3];
+        let mut fy = [[0i32; LANES]; 3];
+        let mut zv = [[0f64; LANES]; 3];
+        let mut gathered = [false; LANES];
+        for (k, r) in recs.iter().take(LANES).enumerate() {
+            // A clipped vertex's index (with `EXTRA_VERTEX`) is past the end of `pos`.
+            let p =
+                r.v.map(|i| pos.get(i as usize).copied().unwrap_or(ScreenPos::NONE));
+            for j in 0..3 {
+                fx[j][k] = p[j].fx;
+                fy[j][k] = p[j].fy;
+                zv[j][k] = p[j].depth;
+            }
+            gathered[k] =
+                !p.iter().any(ScreenPos::is_none) && (r.v[0] | r.v[1] | r.v[2]) & EXTRA_VERTEX == 0;
+        }
+        let mut g = Group {
+            kind: [Kind::Other; LANES],
+            lo: [0; LANES],
+            hi: [0; LANES],
+            cols: [0; LANES],
+            ylo: [0; LANES],
+            yhi: [0; LANES],
+            e: [[0; LANES]; 3],
+            col: [[0; LANES]; 3],
+            row: [[0; LANES]; 3],
+            origin: [[0.0; LANES]; 2],
+            z: [[0.0; LANES]; 3],
+        };
+        let (width, by0, by1) = (width as i32, y0 as i32, y1 as i32);
+        // Each loop below is one operation per lane (wrapping where a lane that is not small
+        // could overflow; its values are then unused).
+        for k in 0..LANES {
+            let (x, y) = (
+                [fx[0][k], fx[1][k], fx[2][k]],
+                [fy[0][k], fy[1][k], fy[2][k]],
+            );
+            let (xmin, xmax) = (x[0].min(x[1]).min(x[2]), x[0].max(x[1]).max(x[2]));
+            let (ymin, ymax) = (y[0].min(y[1]).min(y[2]), y[0].max(y[1]).max(y[2]));
+            let small = xmax.wrapping_sub(xmin) < MAX_DX && ymax.wrapping_sub(ymin) < MAX_DY;
+            // Twice the signed area (`setup::screen_area2`), exact in i32 for a small one.
+            let area = area2(x, y);
+            // The box (`setup::row_range`), clipped to the image's columns and the band.
+            let lo = first_centre(xmin).max(0);
+            let hi = first_centre(xmax).min(width);
+            let ylo = first_centre(ymin).max(by0);
+            let yhi = first_centre(ymax).min(by1);
+            let kind = if !(gathered[k] && small) {
+                Kind::Other
+            } else if area == 0 || lo >= hi || ylo >= yhi {
+                Kind::Empty
+            } else {
+                Kind::Small
+            };
+            g.kind[k] = kind;
+            g.lo[k] = lo;
+            g.hi[k] = hi;
+            g.cols[k] = (1u32 << (hi - lo).clamp(0, 31)) - 1;
+            g.ylo[k] = ylo;
+            g.yhi[k] = yhi;
+        }
+        for k in 0..LANES {
+            // Interior on the positive side of every edge: vertices 1 and 2 swapped for a
+            // negative area, as `RasterTri::set` orders them.
+            let area = area2(
+                [fx[0][k], fx[1][k], fx[2][k]],
+                [fy[0][k], fy[1][k], fy[2][k]],
+            );
+            let swap = area < 0;
+            let pick = |v: &[[i32; LANES]; 3], j: usize| match (j, swap) {
+                (1, true) => v[2][k],
+                (2, true) => v[1][k],
+                _ => v[j][k],
+            };
+            let x = [pick(&fx, 0), pick(&fx, 1), pick(&fx, 2)];
+            let y = [pick(&fy, 0), pick(&fy, 1), pick(&fy, 2)];
+            let cx = g.lo[k].wrapping_mul(SUBPIXEL_ONE as i32).wrapping_add(HALF);
+            let cy = g.ylo[k]
+                .wrapping_mul(SUBPIXEL_ONE as i32)
+                .wrapping_add(HALF);
+            for i in 0..3 {
+                let (px, py, qx, qy) = (x[i], y[i], x[(i + 1) % 3], y[(i + 1) % 3]);
+                let a = py.wrapping_sub(qy);
+                let b = qx.wrapping_sub(px);
+                let bias = i32::from(!(a > 0 || (a == 0 && b > 0)));
+                g.e[i][k] = a
+                    .wrapping_mul(cx.wrapping_sub(px))
+                    .wrapping_add(b.wrapping_mul(cy.wrapping_sub(py)))
+                    .wrapping_sub(bias);
+                g.col[i][k] = a.wrapping_mul(SUBPIXEL_ONE as i32);
+                g.row[i][k] = b.wrapping_mul(SUBPIXEL_ONE as i32);
+            }
+            // The depth plane, with `RasterTri::set`'s operations in its vertex order.
+            let (z1, z2) = if swap {
+                (zv[2][k], zv[1][k])
+            } else {
+                (zv[1][k], zv[2][k])
+            };
+            let xy = [0, 1, 2].map(|j| (f64::from(x[j]) * INV_ONE, f64::from(y[j]) * INV_ONE));
+            let (dx1, dy1) = (xy[1].0 - xy[0].0, xy[1].1 - xy[0].1);
+            let (dx2, dy2) = (xy[2].0 - xy[0].0, xy[2].1 - xy[0].1);
+            let inv_area =
+                (SUBPIXEL_ONE * SUBPIXEL_ONE) as f64 / f64::from(area.wrapping_abs()).max(1.0);
+            let z0 = zv[0][k];
+            let (d1, d2) = (z1 - z0, z2 - z0);
+            g.z[0][k] = z0;
+            g.z[1][k] = (d1 * dy2 - d2 * dy1) * inv_area;
+            g.z[2][k] = (d2 * dx1 - d1 * dx2) * inv_area;
+            g.origin[0][k] = xy[0].0;
+            g.origin[1][k] = xy[0].1;
+        }
+        g
+    }
+
+    /// Draws small record `k` into a band whose first row is `band_y0`, rows `width` pixels
+    /// wide in `depth`, with lanes `r`: each pixel that passes the depth test gets its depth
+    /// written, and `row(at, passed)` is told, per row with such pixels, the band index of
+    /// the row's first column and the bits `j` of the columns `at + j` that passed. Returns
+    /// the pixels that passed.
+    #[inline(always)]
+    pub(crate) fn draw<R: RowLanes>(
+        &self,
+        r: R,
+        k: usize,
+        (depth, width, band_y0): (&mut [f32], usize, i64),
+        mut row: impl FnMut(usize, u32),
+    ) -> u32 {
+        let lo = self.lo[k];
+        let mut v = [0, 1, 2].map(|i| r.ramp(self.e[i][k], self.col[i][k]));
+        let down = [0, 1, 2].map(|i| r.splat(self.row[i][k]));
+        // `depth_col` of the eight columns, once per triangle.
+        let col_z = r.depth_cols(lo, self.origin[0][k], self.z[1][k]);
+        let (oy, z0, zy) = (self.origin[1][k], self.z[0][k], self.z[2][k]);
+        let (cols, mut passed_all) = (self.cols[k], 0);
+        let mut at = (i64::from(self.ylo[k]) - band_y0) as usize * width + lo as usize;
+        for y in self.ylo[k]..self.yhi[k] {
+            let inside = !r.outside(v) & cols;
+            v = [0, 1, 2].map(|i| r.add(v[i], down[i]));
+            let here = at;
+            at += width;
+            if inside == 0 {
+                continue;
+            }
+            // `depth_row`, then `depth_at` per column, tested as `depth_passes` does and
+            // stored as `depth_stored` does.
+            let base = z0 + ((f64::from(y) + 0.5) - oy) * zy;
+            let passed = match depth
+                .get_mut(here..here + LANES)
+                .map(<&mut [f32; LANES]>::try_from)
+            {
+                Some(Ok(s)) => {
+                    let (less, d) = r.less(base, col_z, s);
+                    let passed = less & inside;
+                    for_bits(passed, |j| {
+                        s[j & 7] = if d[j & 7] > 0.0 { d[j & 7] } else { 0.0 }
+                    });
+                    passed
+                }
+                // The band's last pixels: one at a time.
+                _ => {
+                    let d = r.depths(base, col_z);
+                    let mut passed = 0;
+                    for_bits(inside, |j| {
+                        if let Some(s) = depth.get_mut(here + j) {
+                            if d[j] < *s {
+                                *s = if d[j] > 0.0 { d[j] } else { 0.0 };
+                                passed |= 1 << j;
+                            }
+                        }
+                    });
+                    passed
+                }
+            };
+            if passed != 0 {
+                row(here, passed);
+                passed_all += passed.count_ones();
+            }
+        }
+        passed_all
+    }
+
+    /// The band rows `[y0, y1)` and columns `[x0, x1)` of small record `k`'s box: its
+    /// spans lie inside.
+    #[inline(always)]
+    pub(crate) fn bounds(&self, k: usize) -> [i32; 4] {
+        [self.lo[k], self.hi[k], self.ylo[k], self.yhi[k]]
+    }
+}
+
+/// The union of boxes ([`Group::bounds`]) to widen a band's per-row column record by: what
+/// the small triangles of a group drew, marked once per group. A box holds its triangle's
+/// spans, so the union is a superset of what was written, which is what a dirty record (what
+/// to clear and read out again) and the depth pass's extents (where to look for ids) may be.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Marks([i32; 4]);
+
+impl Marks {
+    /// Nothing yet.
+    pub(crate) const NONE: Marks = Marks([i32::MAX, i32::MIN, i32::MAX, i32::MIN]);
+
+    /// Adds a box.
+    #[inline(always)]
+    pub(crate) fn add(&mut self, b: [i32; 4]) {
+        let m = &mut self.0;
+        *m = [
+            m[0].min(b[0]),
+            m[1].max(b[1]),
+            m[2].min(b[2]),
+            m[3].max(b[3]),
+        ];
+    }
+
+    /// Widens `marks` (one `(lo, hi)` per band row; the band's first row `band_y0`) over the
+    /// union's rows to its columns.
+    #[inline(always)]
+    pub(crate) fn apply(self, marks: &mut [(u32, u32)], band_y0: i64) {
+        let [x0, x1, y0, y1] = self.0;
+        if x0 >= x1 || y0 >= y1 {
+            return;
+        }
+        let rows = (i64::from(y0) - band_y0) as usize..(i64::from(y1) - band_y0) as usize;
+        for e in marks.get_mut(rows).unwrap_or(&mut []) {
+            *e = (e.0.min(x0 as u32), e.1.max(x1 as u32));
+        }
+    }
+}
+
+/// Calls `f(j)` for each set bit `j` of `bits`, lowest first.
+#[inline(always)]
+pub(crate) fn for_bits(mut bits: u32, mut f: impl FnMut(usize)) {
+    while bits != 0 {
+        f(bits.trailing_zeros() as usize);
+        bits &= bits - 1;
+    }
+}
+
+/// Twice the signed area of a triangle (`setup::screen_area2`), in i32: exact for a small
+/// one, wrapped (and unused) for others.
+#[inline(always)]
+fn area2(x: [i32; 3], y: [i32; 3]) -> i32 {
+    let d = |a: i32, b: i32| a.wrapping_sub(b);
+    d(x[1], x[0])
+        .wrapping_mul(d(y[2], y[0]))
+        .wrapping_sub(d(x[2], x[0]).wrapping_mul(d(y[1], y[0])))
+}
+
+/// The eight-column operations of [`Group::draw`]: `wide`'s portable vectors at the
+/// baseline ([`Portable`]), 256-bit registers under AVX2. Both are the same integer and IEEE
+/// operations, so they give the same bits.
+pub(crate) trait RowLanes: Copy {
+    /// Eight i32 lanes.
+    type I: Copy;
+    /// Eight f64 lanes.
+    type D: Copy;
+    /// `e + j step` in lane `j`.
+    fn ramp(self, e: i32, step: i32) -> Self::I;
+    /// `x` in every lane.
+    fn splat(self, x: i32) -> Self::I;
+    /// Lane-wise wrapping sum.
+    fn add(self, a: Self::I, b: Self::I) -> Self::I;
+    /// Bit `j` set where some of the three is negative in lane `j`.
+    fn outside(self, v: [Self::I; 3]) -> u32;
+    /// `((lo + j) + 0.5 - ox) zx` in lane `j` (`depth_col`).
+    fn depth_cols(self, lo: i32, ox: f64, zx: f64) -> Self::D;
+    /// `(base + c[j]) as f32` per lane.
+    fn depths(self, base: f64, c: Self::D) -> [f32; LANES];
+    /// [`RowLanes::depths`], and bit `j` set where lane `j`'s depth is less than `stored[j]`.
+    fn less(self, base: f64, c: Self::D, stored: &[f32; LANES]) -> (u32, [f32; LANES]);
+}
+
+/// [`RowLanes`] with `wide`'s vectors, for any CPU.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Portable;
+
+impl RowLanes for Portable {
+    type I = wide::i32x8;
+    type D = [f64; LANES];
+    #[inline(always)]
+    fn ramp(self, e: i32, step: i32) -> wide::i32x8 {
+        wide::i32x8::new(std::array::from_fn(|j| {
+            e.wrapping_add(step.wrapping_mul(j as i32))
+        }))
+    }
+    #[inline(always)]
+    fn splat(self, x: i32) -> wide::i32x8 {
+        wide::i32x8::splat(x)
+    }
+    #[inline(always)]
+    fn add(self, a: wide::i32x8, b: wide::i32x8) -> wide::i32x8 {
+        a + b
+    }
+    #[inline(always)]
+    fn outside(self, v: [wide::i32x8; 3]) -> u32 {
+        (v[0] | v[1] | v[2]).move_mask() as u32
+    }
+    #[inline(always)]
+    fn depth_cols(self, lo: i32, ox: f64, zx: f64) -> [f64; LANES] {
+        std::array::from_fn(|j| ((f64::from(lo + j as i32) + 0.5) - ox) * zx)
+    }
+    #[inline(always)]
+    fn depths(self, base: f64, c: [f64; LANES]) -> [f32; LANES] {
+        std::array::from_fn(|j| (base + c[j]) as f32)
+    }
+    #[inline(always)]
+    fn less(self, base: f64, c: [f64; LANES], stored: &[f32; LANES]) -> (u32, [f32; LANES]) {
+        use wide::{CmpLt, f32x8};
+        let d = self.depths(base, c);
+        let less = f32x8::from(d).cmp_lt(f32x8::from(*stored)).move_mask() as u32;
+        (less, d)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use std::arch::x86_64::{__m256, __m256d, __m256i};
+
+    use pulp::x86::V3;
+
+    use super::{LANES, RowLanes};
+
+    /// `_mm256_cmp_ps`'s ordered, quiet less-than (false with a NaN, as `<`).
+    const LT_OQ: i32 = 0x11;
+
+    impl RowLanes for V3 {
+        type I = __m256i;
+        type D = [__m256d; 2];
+        #[inline(always)]
+        fn ramp(self, e: i32, step: i32) -> __m256i {
+            let j = self.avx._mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+            let s = self
+                .avx2
+                ._mm256_mullo_epi32(j, self.avx._mm256_set1_epi32(step));
+            self.avx2._mm256_add_epi32(s, self.avx._mm256_set1_epi32(e))
+        }
+        #[inline(always)]
+        fn splat(self, x: i32) -> __m256i {
+            self.avx._mm256_set1_epi32(x)
+        }
+        #[inline(always)]
+        fn add(self, a: __m256i, b: __m256i) -> __m256i {
+            self.avx2._mm256_add_epi32(a, b)
+        }
+        #[inline(always)]
+        fn outside(self, v: [__m256i; 3]) -> u32 {
+            let any = self
+                .avx2
+                ._mm256_or_si256(self.avx2._mm256_or_si256(v[0], v[1]), v[2]);
+            self.avx
+                ._mm256_movemask_ps(self.avx._mm256_castsi256_ps(any)) as u32
+        }
+        #[inline(always)]
+        fn depth_cols(self, lo: i32, ox: f64, zx: f64) -> [__m256d; 2] {
+            let a = self.avx;
+            let l = f64::from(lo);
+            let x = [
+                a._mm256_setr_pd(l, l + 1.0, l + 2.0, l + 3.0),
+                a._mm256_setr_pd(l + 4.0, l + 5.0, l + 6.0, l + 7.0),
+            ];
+            let half = a._mm256_set1_pd(0.5);
+            let (ox, zx) = (a._mm256_set1_pd(ox), a._mm256_set1_pd(zx));
+            x.map(|x| a._mm256_mul_pd(a._mm256_sub_pd(a._mm256_add_pd(x, half), ox), zx))
+        }
+        #[inline(always)]
+        fn depths(self, base: f64, c: [__m256d; 2]) -> [f32; LANES] {
+            pulp::cast(cvt(self, base, c))
+        }
+        #[inline(always)]
+        fn less(self, base: f64, c: [__m256d; 2], stored: &[f32; LANES]) -> (u32, [f32; LANES]) {
+            let d = cvt(self, base, c);
+            let s = pulp::cast(*stored);
+            let less = self
+                .avx
+                ._mm256_movemask_ps(self.avx._mm256_cmp_ps::<LT_OQ>(d, s));
+            (less as u32, pulp::cast(d))
+        }
+    }
+
+    /// `(base + c[j]) as f32` in lane `j`: the sum in f64, rounded to nearest.
+    #[inline(always)]
+    fn cvt(v: V3, base: f64, c: [__m256d; 2]) -> __m256 {
+        let a = v.avx;
+        let b = a._mm256_set1_pd(base);
+        let [lo, hi] = c.map(|c| a._mm256_cvtpd_ps(a._mm256_add_pd(b, c)));
+        a._mm256_set_m128(hi, lo)
+    }
+}
+
+/// `setup::first_row_at_or_below` in i32: the first pixel row (or column) whose centre lies
+/// at or below fixed-point `f`.
+#[inline(always)]
+fn first_centre(f: i32) -> i32 {
+    f.wrapping_add(SUBPIXEL_ONE as i32 - 1 - HALF) >> phosphor_math::fixed::SUBPIXEL_BITS
+}
+
+#[cfg(test)]
+#[path = "tests/group_unit.rs"]
+mod tests;

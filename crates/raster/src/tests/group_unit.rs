@@ -1,0 +1,274 @@
+//! Small triangles in lanes against the one-triangle path: the same depths (bit for bit) and
+//! the same nearest triangle at every pixel of a band, at every lane width this CPU runs.
+
+use glam::Vec3;
+
+use super::*;
+use crate::bin::TriRec;
+use crate::coverage::{BandTarget, depth_at, depth_only};
+use crate::setup::RasterTri;
+
+const WIDTH: u32 = 37;
+const BAND: (i64, i64) = (32, 48);
+
+/// A small deterministic generator (xorshift).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    /// Uniform in `[lo, hi)`.
+    fn range(&mut self, lo: i32, hi: i32) -> i32 {
+        lo + (self.next() % (hi - lo) as u64) as i32
+    }
+}
+
+/// Vertices for `n` triangles: most small (within a few pixels, some exactly on pixel
+/// centres or sharing a row), some near the limits of "small", some large, some degenerate,
+/// some straddling the band's or the image's edges.
+fn triangles(rng: &mut Rng, n: usize) -> Vec<ScreenPos> {
+    let one = SUBPIXEL_ONE as i32;
+    let mut pos = Vec::new();
+    for t in 0..n {
+        let cx = rng.range(-4 * one, (WIDTH as i32 + 4) * one);
+        let cy = rng.range(26 * one, 54 * one);
+        let reach = match t % 7 {
+            0 => 4 * one,
+            1 => 8 * one,
+            2 => 40 * one,
+            3 => one / 2,
+            _ => 2 * one,
+        };
+        let mut corner = |k: usize| {
+            let (mut x, mut y) = (
+                cx + rng.range(-reach, reach + 1),
+                cy + rng.range(-reach, reach + 1),
+            );
+            if t % 11 == 0 {
+                // On pixel centres: ties on edges and on the fill rule.
+                x = x / one * one + one / 2;
+                y = y / one * one + one / 2;
+            }
+            ScreenPos {
+                fx: x,
+                fy: y,
+                depth: f64::from(rng.range(0, 1 << 20)) / f64::from(1 << 20) * 0.9 + 0.05,
+                inv_w: 1.0,
+            }
+        };
+        let mut c = [corner(0), corner(1), corner(2)];
+        if t % 13 == 0 {
+            // Collinear: no area.
+            c[2].fx = 2 * c[1].fx - c[0].fx;
+            c[2].fy = 2 * c[1].fy - c[0].fy;
+        }
+        pos.extend(c);
+    }
+    pos
+}
+
+/// The band drawn record by record through the one-triangle path: depths and ids.
+fn reference(pos: &[ScreenPos], recs: &[TriRec]) -> (Vec<f32>, Vec<u64>) {
+    let len = WIDTH as usize * (BAND.1 - BAND.0) as usize;
+    let (mut color, mut depth, mut ids) = (vec![Vec3::ZERO; len], vec![1.0f32; len], vec![0; len]);
+    let mut extents = vec![(u32::MAX, 0); (BAND.1 - BAND.0) as usize];
+    let mut target = BandTarget::new(&mut color, &mut depth, WIDTH, BAND.0, false);
+    let mut t = RasterTri::empty();
+    for (id, r) in recs.iter().enumerate() {
+        let p = r.v.map(|i| pos[i as usize]);
+        if t.set(p, [&[]; 3], 0, true) {
+            depth_only(&t, &mut target, &mut ids, &mut extents, id as u64 + 1);
+        }
+    }
+    (depth, ids)
+}
+
+/// The band drawn eight records at a time as the depth pass draws it: small ones from the
+/// lanes, the others through the one-triangle path. Also returns how many were small, and
+/// checks that the marks hold every pixel written.
+fn grouped<R: RowLanes>(r: R, pos: &[ScreenPos], recs: &[TriRec]) -> (Vec<f32>, Vec<u64>, usize) {
+    let len = WIDTH as usize * (BAND.1 - BAND.0) as usize;
+    let (mut color, mut depth, mut ids) = (vec![Vec3::ZERO; len], vec![1.0f32; len], vec![0; len]);
+    let mut extents = vec![(u32::MAX, 0); (BAND.1 - BAND.0) as usize];
+    let mut target = BandTarget::new(&mut color, &mut depth, WIDTH, BAND.0, false);
+    let mut t = RasterTri::empty();
+    let mut small = 0;
+    for (g_at, group) in recs.chunks(LANES).enumerate() {
+        let g = Group::set(group, pos, WIDTH, BAND);
+        let mut marks = Marks::NONE;
+        for (k, rec) in group.iter().enumerate() {
+            let id = (g_at * LANES + k) as u64 + 1;
+            match g.kind[k] {
+                Kind::Small => {
+                    small += 1;
+                    let band = (&mut *target.depth, WIDTH as usize, BAND.0);
+                    let passed = g.draw(r, k, band, |at, passed| {
+                        for_bits(passed, |j| ids[at + j] = id);
+                    });
+                    if passed > 0 {
+                        marks.add(g.bounds(k));
+                    }
+                }
+                Kind::Empty => {
+                    // Nothing in the band: the one-triangle path agrees.
+                    let p = rec.v.map(|i| pos[i as usize]);
+                    let mut probe = RasterTri::empty();
+                    if probe.set(p, [&[]; 3], 0, true) {
+                        let mut none = true;
+                        crate::coverage::for_each_span(&probe, WIDTH, BAND.0, BAND.1, |_, _, _| {
+                            none = false;
+                        });
+                        assert!(none, "an empty record covers pixels: {p:?}");
+                    }
+                }
+                Kind::Other => {
+                    let p = rec.v.map(|i| pos[i as usize]);
+                    if t.set(p, [&[]; 3], 0, true) {
+                        depth_only(&t, &mut target, &mut ids, &mut extents, id);
+                    }
+                }
+            }
+        }
+        marks.apply(&mut extents, BAND.0);
+    }
+    // Every pixel written lies inside its row's extent.
+    for (i, &id) in ids.iter().enumerate() {
+        let (row, x) = (i / WIDTH as usize, (i % WIDTH as usize) as u32);
+        if id != 0 {
+            let (lo, hi) = extents[row];
+            assert!(
+                lo <= x && x < hi,
+                "pixel {x} of row {row} outside its extent {lo}..{hi}"
+            );
+        }
+    }
+    (depth, ids, small)
+}
+
+fn check<R: RowLanes>(r: R, seed: u64) {
+    let mut rng = Rng(seed);
+    let pos = triangles(&mut rng, 600);
+    let recs: Vec<TriRec> = (0..pos.len() as u32 / 3)
+        .map(|t| TriRec {
+            v: [3 * t, 3 * t + 1, 3 * t + 2],
+            tri: t,
+        })
+        .collect();
+    let (want_depth, want_ids) = reference(&pos, &recs);
+    let (depth, ids, small) = grouped(r, &pos, &recs);
+    assert!(
+        small > recs.len() / 4,
+        "only {small} of {} were small",
+        recs.len()
+    );
+    assert!(
+        want_ids.iter().filter(|&&i| i != 0).count() > 200,
+        "too little drawn"
+    );
+    for (i, (a, b)) in want_depth.iter().zip(&depth).enumerate() {
+        assert_eq!(a.to_bits(), b.to_bits(), "depth of band pixel {i}");
+    }
+    assert_eq!(want_ids, ids);
+}
+
+#[test]
+fn small_triangles_in_lanes_draw_what_one_at_a_time_draws() {
+    for seed in [1, 0x9e37_79b9_7f4a_7c15, 42, 7_777_777] {
+        check(Portable, seed);
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = phosphor_lighting::Avx2::detect() {
+            avx2.run(|a: phosphor_lighting::Avx2| check(a.v3(), seed));
+        }
+    }
+}
+
+#[test]
+fn a_record_with_a_clipped_or_missing_vertex_is_left_to_the_one_triangle_path() {
+    let one = SUBPIXEL_ONE as i32;
+    let p = |x: i32, y: i32| ScreenPos {
+        fx: x * one,
+        fy: y * one,
+        depth: 0.5,
+        inv_w: 1.0,
+    };
+    let pos = [p(3, 33), p(5, 33), p(4, 36), ScreenPos::NONE];
+    let recs = [
+        TriRec {
+            v: [0, 1, 2],
+            tri: 0,
+        },
+        TriRec {
+            v: [0, 1, 3],
+            tri: 1,
+        },
+        TriRec {
+            v: [0, 1, crate::bin::EXTRA_VERTEX],
+            tri: 2,
+        },
+        TriRec {
+            v: [0, 1, 99],
+            tri: 3,
+        },
+    ];
+    let g = Group::set(&recs, &pos, WIDTH, BAND);
+    assert_eq!(
+        g.kind[..4],
+        [Kind::Small, Kind::Other, Kind::Other, Kind::Other]
+    );
+}
+
+#[test]
+fn the_depth_formula_is_the_one_the_lanes_compute() {
+    // `depth_at` is row part plus column part; the lanes add the same two f64 values.
+    let one = SUBPIXEL_ONE as i32;
+    let v = |x: i32, y: i32, d: f64| ScreenPos {
+        fx: x,
+        fy: y,
+        depth: d,
+        inv_w: 1.0,
+    };
+    let pos = [
+        v(3 * one + 17, 33 * one + 5, 0.1),
+        v(9 * one, 35 * one, 0.7),
+        v(4 * one, 40 * one, 0.3),
+    ];
+    let mut t = RasterTri::empty();
+    assert!(t.set(pos, [&[]; 3], 0, true));
+    let recs = [TriRec {
+        v: [0, 1, 2],
+        tri: 0,
+    }];
+    let g = Group::set(&recs, &pos, WIDTH, BAND);
+    assert_eq!(g.kind[0], Kind::Small);
+    let mut depth = vec![1.0f32; WIDTH as usize * 16];
+    let mut rows = Vec::new();
+    g.draw(
+        Portable,
+        0,
+        (&mut depth, WIDTH as usize, BAND.0),
+        |at, passed| {
+            rows.push((at, passed));
+        },
+    );
+    let mut seen = 0;
+    for (at, passed) in rows {
+        for_bits(passed, |j| {
+            let i = at + j;
+            let (x, y) = (
+                (i % WIDTH as usize) as i64,
+                (i / WIDTH as usize) as i64 + BAND.0,
+            );
+            assert_eq!(
+                depth[i].to_bits(),
+                (depth_at(&t, x, y) as f32).to_bits(),
+                "({x}, {y})"
+            );
+            seen += 1;
+        });
+    }
+    assert!(seen > 10, "{seen} pixels");
+}
