@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use crate::coverage::BandTarget;
 use crate::framebuffer::layer::LayerRows;
 use crate::framebuffer::{Framebuffer, clear_rows, same_color};
-use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes, for_bits};
+use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes, for_bits_in};
 use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
@@ -167,10 +167,14 @@ fn single_loop<S: Shader, const INLINE: bool, R: RowLanes>(
     target: &mut BandTarget,
     lanes: R,
 ) -> u64 {
-    if S::FACE == Face::Constant && !target.count {
-        return constant_loop::<S, INLINE, R>(input, b, target, lanes);
+    if grouped::<S>(target) {
+        return group_loop::<S, INLINE, R>(input, b, target, lanes);
     }
-    let n = S::VARYINGS;
+    let n = if S::FACE == Face::Constant {
+        0
+    } else {
+        S::VARYINGS
+    };
     let mut t = RasterTri::empty();
     let mut batched = input.batched();
     let (mut shaded, mut sink) = (0, 0);
@@ -186,11 +190,19 @@ fn single_loop<S: Shader, const INLINE: bool, R: RowLanes>(
     shaded
 }
 
-/// [`single_loop`] for a constant colour per triangle (or depth alone): eight records set up
-/// at a time, the small ones drawn from their lanes ([`Group`]), the others one by one, in
-/// order.
+/// Whether [`single_loop`] draws `input`'s records through [`group_loop`]: a constant colour
+/// (or depth alone), not the coverage-count hook. (A pixel stage run per pixel as it passes,
+/// `gouraud`'s, was measured there too: the planes set up one triangle at a time cost what
+/// the lanes saved, so it keeps the one-triangle path.)
 #[inline(always)]
-fn constant_loop<S: Shader, const INLINE: bool, R: RowLanes>(
+fn grouped<S: Shader>(target: &BandTarget) -> bool {
+    !target.count && S::FACE == Face::Constant
+}
+
+/// [`single_loop`] for the shaders [`grouped`] names: eight records set up at a time, the
+/// small ones drawn from their lanes ([`Group`]), the others one by one, in order.
+#[inline(always)]
+fn group_loop<S: Shader, const INLINE: bool, R: RowLanes>(
     input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
@@ -210,22 +222,12 @@ fn constant_loop<S: Shader, const INLINE: bool, R: RowLanes>(
                         let (color, depth) = (&mut *target.color, &mut *target.depth);
                         let band = (depth, width, y0);
                         shaded += u64::from(if input.depth_only {
-                            g.draw(lanes, k, band, |_, _| {})
+                            g.draw(lanes, k, band, |_, _, _| {})
                         } else {
                             let rgb = c.colors.get(r.tri as usize).copied();
                             let Solid(rgb) = Solid::of(rgb.unwrap_or(Vec3::ZERO), input.ceiling);
-                            g.draw(lanes, k, band, |at, passed| {
-                                match color
-                                    .get_mut(at..at + LANES)
-                                    .map(<&mut [Vec3; LANES]>::try_from)
-                                {
-                                    Some(Ok(px)) => for_bits(passed, |j| px[j & 7] = rgb),
-                                    _ => for_bits(passed, |j| {
-                                        if let Some(px) = color.get_mut(at + j) {
-                                            *px = rgb;
-                                        }
-                                    }),
-                                }
+                            g.draw(lanes, k, band, |at, passed, _| {
+                                for_bits_in(color, at, passed, |px, _| *px = rgb);
                             })
                         });
                         // Its spans are marked whether or not they passed the depth test.

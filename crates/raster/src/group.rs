@@ -28,10 +28,10 @@ use crate::setup::ScreenPos;
 pub(crate) const LANES: usize = 8;
 
 /// A small triangle's vertices lie less than this far apart across (fixed point): fewer than
-/// eight pixel centres fit between them, so the box has at most eight columns.
-const MAX_DX: i32 = 8 * SUBPIXEL_ONE as i32;
-/// ... and less than this far apart down. Over the box and up to 16 columns from a vertex,
-/// `|a dX| < 2^14 2^12` and `|b dY| < 2^11 2^15`: every edge value fits in `i32`.
+/// sixteen pixel centres fit between them, so the box has at most two vectors of columns.
+const MAX_DX: i32 = 16 * SUBPIXEL_ONE as i32;
+/// ... and less than this far apart down. Over the box and up to 32 columns from a vertex,
+/// `|a dX| < 2^14 2^13` and `|b dY| < 2^12 2^15`: every edge value fits in `i32`.
 const MAX_DY: i32 = 64 * SUBPIXEL_ONE as i32;
 
 const HALF: i32 = SUBPIXEL_ONE as i32 / 2;
@@ -200,28 +200,67 @@ impl Group {
 
     /// Draws small record `k` into a band whose first row is `band_y0`, rows `width` pixels
     /// wide in `depth`, with lanes `r`: each pixel that passes the depth test gets its depth
-    /// written, and `row(at, passed)` is told, per row with such pixels, the band index of
-    /// the row's first column and the bits `j` of the columns `at + j` that passed. Returns
-    /// the pixels that passed.
+    /// written, and `row(at, passed, (x, y))` is told, per row with such pixels, the band
+    /// index `at` of the row's first column `x` (image row `y`) and the bits `j` (below 16)
+    /// of the columns `at + j` that passed. Returns the pixels that passed.
     #[inline(always)]
     pub(crate) fn draw<R: RowLanes>(
         &self,
         r: R,
         k: usize,
+        band: (&mut [f32], usize, i64),
+        row: impl FnMut(usize, u32, (i64, i64)),
+    ) -> u32 {
+        if self.cols[k] >> LANES == 0 {
+            self.draw_rows::<R, 1>(r, k, band, row)
+        } else {
+            self.draw_rows::<R, 2>(r, k, band, row)
+        }
+    }
+
+    /// [`Group::draw`] with `V` vectors of eight columns per row.
+    #[inline(always)]
+    fn draw_rows<R: RowLanes, const V: usize>(
+        &self,
+        r: R,
+        k: usize,
         (depth, width, band_y0): (&mut [f32], usize, i64),
-        mut row: impl FnMut(usize, u32),
+        mut row: impl FnMut(usize, u32, (i64, i64)),
     ) -> u32 {
         let lo = self.lo[k];
-        let mut v = [0, 1, 2].map(|i| r.ramp(self.e[i][k], self.col[i][k]));
-        let down = [0, 1, 2].map(|i| r.splat(self.row[i][k]));
-        // `depth_col` of the eight columns, once per triangle.
-        let col_z = r.depth_cols(lo, self.origin[0][k], self.z[1][k]);
+        let step = LANES as i32;
+        // Plain loops, not `array::from_fn`: its closures may stay out of line, where the
+        // AVX2 operations would be calls.
+        let mut v = [[r.splat(0); V]; 3];
+        for i in 0..3 {
+            let (e, col) = (self.e[i][k], self.col[i][k]);
+            for h in 0..V {
+                v[i][h] = r.ramp(e.wrapping_add(col.wrapping_mul(step * h as i32)), col);
+            }
+        }
+        let down = [
+            r.splat(self.row[0][k]),
+            r.splat(self.row[1][k]),
+            r.splat(self.row[2][k]),
+        ];
+        // `depth_col` of the columns, once per triangle.
+        let (ox, zx) = (self.origin[0][k], self.z[1][k]);
+        let mut col_z = [r.depth_cols(lo, ox, zx); V];
+        for h in 1..V {
+            col_z[h] = r.depth_cols(lo + step * h as i32, ox, zx);
+        }
         let (oy, z0, zy) = (self.origin[1][k], self.z[0][k], self.z[2][k]);
         let (cols, mut passed_all) = (self.cols[k], 0);
         let mut at = (i64::from(self.ylo[k]) - band_y0) as usize * width + lo as usize;
         for y in self.ylo[k]..self.yhi[k] {
-            let inside = !r.outside(v) & cols;
-            v = [0, 1, 2].map(|i| r.add(v[i], down[i]));
+            let mut outside = 0;
+            for h in 0..V {
+                outside |= r.outside([v[0][h], v[1][h], v[2][h]]) << (LANES * h);
+                for i in 0..3 {
+                    v[i][h] = r.add(v[i][h], down[i]);
+                }
+            }
+            let inside = !outside & cols;
             let here = at;
             at += width;
             if inside == 0 {
@@ -230,35 +269,40 @@ impl Group {
             // `depth_row`, then `depth_at` per column, tested as `depth_passes` does and
             // stored as `depth_stored` does.
             let base = z0 + ((f64::from(y) + 0.5) - oy) * zy;
-            let passed = match depth
-                .get_mut(here..here + LANES)
-                .map(<&mut [f32; LANES]>::try_from)
-            {
-                Some(Ok(s)) => {
-                    let (less, d) = r.less(base, col_z, s);
-                    let passed = less & inside;
-                    for_bits(passed, |j| {
-                        s[j & 7] = if d[j & 7] > 0.0 { d[j & 7] } else { 0.0 }
-                    });
-                    passed
+            let mut passed = 0;
+            for h in 0..V {
+                let (part, first) = ((inside >> (LANES * h)) & 0xff, here + LANES * h);
+                if part == 0 {
+                    continue;
                 }
-                // The band's last pixels: one at a time.
-                _ => {
-                    let d = r.depths(base, col_z);
-                    let mut passed = 0;
-                    for_bits(inside, |j| {
-                        if let Some(s) = depth.get_mut(here + j) {
-                            if d[j] < *s {
-                                *s = if d[j] > 0.0 { d[j] } else { 0.0 };
-                                passed |= 1 << j;
+                let hit = match depth
+                    .get_mut(first..first + LANES)
+                    .map(<&mut [f32; LANES]>::try_from)
+                {
+                    Some(Ok(s)) => {
+                        let (less, d) = r.less(base, col_z[h], s);
+                        r.store(less & part, d, s);
+                        less & part
+                    }
+                    // The band's last pixels: one at a time.
+                    _ => {
+                        let d = r.depths(base, col_z[h]);
+                        let mut hit = 0;
+                        for_bits(part, |j| {
+                            if let Some(s) = depth.get_mut(first + j) {
+                                if d[j] < *s {
+                                    *s = if d[j] > 0.0 { d[j] } else { 0.0 };
+                                    hit |= 1 << j;
+                                }
                             }
-                        }
-                    });
-                    passed
-                }
-            };
+                        });
+                        hit
+                    }
+                };
+                passed |= hit << (LANES * h);
+            }
             if passed != 0 {
-                row(here, passed);
+                row(here, passed, (i64::from(lo), i64::from(y)));
                 passed_all += passed.count_ones();
             }
         }
@@ -311,6 +355,29 @@ impl Marks {
     }
 }
 
+/// Calls `f(&mut row[at + j])` for each set bit `j` (below 16) of `bits`, lowest first: the
+/// per-pixel writes of a row [`Group::draw`] reports, with one bounds check per row where
+/// the row's sixteen pixels lie inside `row`.
+#[inline(always)]
+pub(crate) fn for_bits_in<T>(
+    row: &mut [T],
+    at: usize,
+    bits: u32,
+    mut f: impl FnMut(&mut T, usize),
+) {
+    match row
+        .get_mut(at..at + 2 * LANES)
+        .map(<&mut [T; 2 * LANES]>::try_from)
+    {
+        Some(Ok(px)) => for_bits(bits, |j| f(&mut px[j & 15], j)),
+        _ => for_bits(bits, |j| {
+            if let Some(p) = row.get_mut(at + j) {
+                f(p, j);
+            }
+        }),
+    }
+}
+
 /// Calls `f(j)` for each set bit `j` of `bits`, lowest first.
 #[inline(always)]
 pub(crate) fn for_bits(mut bits: u32, mut f: impl FnMut(usize)) {
@@ -338,6 +405,8 @@ pub(crate) trait RowLanes: Copy {
     type I: Copy;
     /// Eight f64 lanes.
     type D: Copy;
+    /// Eight f32 lanes.
+    type F: Copy;
     /// `e + j step` in lane `j`.
     fn ramp(self, e: i32, step: i32) -> Self::I;
     /// `x` in every lane.
@@ -350,8 +419,12 @@ pub(crate) trait RowLanes: Copy {
     fn depth_cols(self, lo: i32, ox: f64, zx: f64) -> Self::D;
     /// `(base + c[j]) as f32` per lane.
     fn depths(self, base: f64, c: Self::D) -> [f32; LANES];
-    /// [`RowLanes::depths`], and bit `j` set where lane `j`'s depth is less than `stored[j]`.
-    fn less(self, base: f64, c: Self::D, stored: &[f32; LANES]) -> (u32, [f32; LANES]);
+    /// [`RowLanes::depths`] as lanes, and bit `j` set where lane `j`'s depth is less than
+    /// `stored[j]`.
+    fn less(self, base: f64, c: Self::D, stored: &[f32; LANES]) -> (u32, Self::F);
+    /// `stored[j]` set to `d[j]` (negatives, -0 and NaN as 0: `depth_stored`) where `passed`
+    /// has bit `j`; the other lanes are written back unchanged.
+    fn store(self, passed: u32, d: Self::F, stored: &mut [f32; LANES]);
 }
 
 /// [`RowLanes`] with `wide`'s vectors, for any CPU.
@@ -361,6 +434,7 @@ pub(crate) struct Portable;
 impl RowLanes for Portable {
     type I = wide::i32x8;
     type D = [f64; LANES];
+    type F = [f32; LANES];
     #[inline(always)]
     fn ramp(self, e: i32, step: i32) -> wide::i32x8 {
         wide::i32x8::new(std::array::from_fn(|j| {
@@ -394,6 +468,12 @@ impl RowLanes for Portable {
         let less = f32x8::from(d).cmp_lt(f32x8::from(*stored)).move_mask() as u32;
         (less, d)
     }
+    #[inline(always)]
+    fn store(self, passed: u32, d: [f32; LANES], stored: &mut [f32; LANES]) {
+        for_bits(passed, |j| {
+            stored[j & 7] = if d[j & 7] > 0.0 { d[j & 7] } else { 0.0 }
+        });
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -410,6 +490,7 @@ mod avx2 {
     impl RowLanes for V3 {
         type I = __m256i;
         type D = [__m256d; 2];
+        type F = __m256;
         #[inline(always)]
         fn ramp(self, e: i32, step: i32) -> __m256i {
             let j = self.avx._mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
@@ -451,13 +532,24 @@ mod avx2 {
             pulp::cast(cvt(self, base, c))
         }
         #[inline(always)]
-        fn less(self, base: f64, c: [__m256d; 2], stored: &[f32; LANES]) -> (u32, [f32; LANES]) {
+        fn less(self, base: f64, c: [__m256d; 2], stored: &[f32; LANES]) -> (u32, __m256) {
             let d = cvt(self, base, c);
             let s = pulp::cast(*stored);
             let less = self
                 .avx
                 ._mm256_movemask_ps(self.avx._mm256_cmp_ps::<LT_OQ>(d, s));
-            (less as u32, pulp::cast(d))
+            (less as u32, d)
+        }
+        #[inline(always)]
+        fn store(self, passed: u32, d: __m256, stored: &mut [f32; LANES]) {
+            let (a, a2) = (self.avx, self.avx2);
+            let bit = a._mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            let lanes = a2._mm256_and_si256(a._mm256_set1_epi32(passed as i32), bit);
+            let mask = a._mm256_castsi256_ps(a2._mm256_cmpeq_epi32(lanes, bit));
+            // `_mm256_max_ps(d, 0)` is 0 for a NaN, -0 or negative `d` (the second operand
+            // wins those), as `depth_stored`'s compare-select.
+            let keep = a._mm256_max_ps(d, a._mm256_setzero_ps());
+            *stored = pulp::cast(a._mm256_blendv_ps(pulp::cast(*stored), keep, mask));
         }
     }
 

@@ -8,7 +8,7 @@
 
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::{
-    BandTarget, Pass, depth_col, depth_row, depth_stored, for_each_span, pixel_drawn,
+    BandTarget, Pass, depth_col_at, depth_row, depth_stored, for_each_span, pixel_drawn,
 };
 use crate::setup::RasterTri;
 use crate::traverse::SpanShade;
@@ -169,9 +169,15 @@ fn incremental_impl<K: SpanShade, const VISIBLE: bool>(
         let mut state = shade.span(xs as f64 + 0.5, y as f64 + 0.5);
         let row = ((y - y0) as usize) * width as usize;
         let mut out: Attrs = [0.0; MAX_ATTRS];
+        let mut xc = xs as f64 + 0.5;
         for x in xs..xe {
             let idx = row + x as usize;
-            let depth = if VISIBLE { 0.0 } else { base + depth_col(t, x) };
+            let depth = if VISIBLE {
+                0.0
+            } else {
+                base + depth_col_at(t, xc)
+            };
+            xc += 1.0;
             let draw = pixel_drawn::<VISIBLE>(target, idx, id, depth);
             if draw {
                 let w = if perspective && v[n] != 0.0 {

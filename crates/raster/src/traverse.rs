@@ -18,7 +18,7 @@ use phosphor_lighting::F32x1;
 use crate::batch::{Pending, shade4};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::{
-    BandTarget, Pass, depth_col, depth_row, depth_stored, for_each_span, lanes, pixel_drawn,
+    BandTarget, Pass, depth_col_at, depth_row, depth_stored, for_each_span, lanes, pixel_drawn,
 };
 use crate::framebuffer::clamp_color_to;
 use crate::setup::RasterTri;
@@ -203,13 +203,13 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
 ) -> u64 {
     let n = lanes(T::ATTRS);
     // Span start: every plane evaluated once at the first pixel centre.
-    let xc = x_start as f64 + 0.5;
-    let yc = y as f64 + 0.5;
-    let (ox, oy) = (xc - t.origin.0, yc - t.origin.1);
+    let (x0c, yc) = (x_start as f64 + 0.5, y as f64 + 0.5);
+    let (ox, oy) = (x0c - t.origin.0, yc - t.origin.1);
     let base = depth_row(t, y);
     let (mut inv_w, mut attrs) =
         planes_at(&t.inv_w, [&t.attr0, &t.attr_dx, &t.attr_dy], (ox, oy), n);
-    let mut state = shade.span(xc, yc);
+    let mut state = shade.span(x0c, yc);
+    let mut xc = x0c;
     let row = ((y - target.y0) as usize) * target.width as usize;
     let id = match target.pass {
         Pass::Visible(id) => id,
@@ -219,7 +219,12 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     for x in x_start..x_end {
         let idx = row + x as usize;
         // The visible pass reads no depth: the depth pass left the ids.
-        let depth = if VISIBLE { 0.0 } else { base + depth_col(t, x) };
+        let depth = if VISIBLE {
+            0.0
+        } else {
+            base + depth_col_at(t, xc)
+        };
+        xc += 1.0;
         if pixel_drawn::<VISIBLE>(target, idx, id, depth) {
             let w = if PERSPECTIVE && n > 0 {
                 (1.0 / inv_w) as f32

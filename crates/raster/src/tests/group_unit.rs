@@ -36,14 +36,15 @@ fn triangles(rng: &mut Rng, n: usize) -> Vec<ScreenPos> {
     for t in 0..n {
         let cx = rng.range(-4 * one, (WIDTH as i32 + 4) * one);
         let cy = rng.range(26 * one, 54 * one);
-        let reach = match t % 7 {
+        let reach = match t % 8 {
             0 => 4 * one,
             1 => 8 * one,
             2 => 40 * one,
             3 => one / 2,
+            4 => 7 * one,
             _ => 2 * one,
         };
-        let mut corner = |k: usize| {
+        let mut corner = || {
             let (mut x, mut y) = (
                 cx + rng.range(-reach, reach + 1),
                 cy + rng.range(-reach, reach + 1),
@@ -60,7 +61,7 @@ fn triangles(rng: &mut Rng, n: usize) -> Vec<ScreenPos> {
                 inv_w: 1.0,
             }
         };
-        let mut c = [corner(0), corner(1), corner(2)];
+        let mut c = [corner(), corner(), corner()];
         if t % 13 == 0 {
             // Collinear: no area.
             c[2].fx = 2 * c[1].fx - c[0].fx;
@@ -106,8 +107,8 @@ fn grouped<R: RowLanes>(r: R, pos: &[ScreenPos], recs: &[TriRec]) -> (Vec<f32>, 
                 Kind::Small => {
                     small += 1;
                     let band = (&mut *target.depth, WIDTH as usize, BAND.0);
-                    let passed = g.draw(r, k, band, |at, passed| {
-                        for_bits(passed, |j| ids[at + j] = id);
+                    let passed = g.draw(r, k, band, |at, passed, _| {
+                        for_bits_in(&mut ids, at, passed, |i, _| *i = id);
                     });
                     if passed > 0 {
                         marks.add(g.bounds(k));
@@ -250,17 +251,18 @@ fn the_depth_formula_is_the_one_the_lanes_compute() {
         Portable,
         0,
         (&mut depth, WIDTH as usize, BAND.0),
-        |at, passed| {
-            rows.push((at, passed));
+        |at, passed, xy| {
+            rows.push((at, passed, xy));
         },
     );
     let mut seen = 0;
-    for (at, passed) in rows {
+    for (at, passed, (x0, y)) in rows {
         for_bits(passed, |j| {
             let i = at + j;
-            let (x, y) = (
-                (i % WIDTH as usize) as i64,
-                (i / WIDTH as usize) as i64 + BAND.0,
+            let x = (i % WIDTH as usize) as i64;
+            assert_eq!(
+                (x, y),
+                (x0 + j as i64, (i / WIDTH as usize) as i64 + BAND.0)
             );
             assert_eq!(
                 depth[i].to_bits(),
