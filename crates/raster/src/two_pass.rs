@@ -306,12 +306,21 @@ fn mark_owners(
 ) {
     owns.clear();
     owns.resize(records, false);
+    // A slice, not the vector: its pointer and length stay in registers across the stores.
+    let owns = owns.as_mut_slice();
     for (row, &(lo, hi)) in extents.iter().enumerate() {
         let (lo, hi) = (
             row * width + lo as usize,
             row * width + (hi as usize).min(width),
         );
+        // A triangle's pixels lie side by side along a row: an id equal to the one before
+        // it is already marked.
+        let mut last = u64::MAX;
         for &id in ids.get(lo..hi).unwrap_or(&[]) {
+            if id == last {
+                continue;
+            }
+            last = id;
             // Ids below the epoch were left by earlier bands.
             if let Some(o) = id.checked_sub(epoch).and_then(|k| owns.get_mut(k as usize)) {
                 *o = true;
