@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use crate::coverage::BandTarget;
 use crate::framebuffer::layer::LayerRows;
 use crate::framebuffer::{Framebuffer, clear_rows, same_color};
-use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes, for_bits_in};
+use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes};
 use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
@@ -221,15 +221,12 @@ fn group_loop<S: Shader, const INLINE: bool, R: RowLanes>(
                     Kind::Small => {
                         let (color, depth) = (&mut *target.color, &mut *target.depth);
                         let band = (depth, width, y0);
-                        shaded += u64::from(if input.depth_only {
-                            g.draw(lanes, k, band, |_, _, _| {})
-                        } else {
+                        let fill = (!input.depth_only).then(|| {
                             let rgb = c.colors.get(r.tri as usize).copied();
                             let Solid(rgb) = Solid::of(rgb.unwrap_or(Vec3::ZERO), input.ceiling);
-                            g.draw(lanes, k, band, |at, passed, _| {
-                                for_bits_in(color, at, passed, |px, _| *px = rgb);
-                            })
+                            (color, rgb)
                         });
+                        shaded += u64::from(g.draw(lanes, k, band, fill, |_, _, _| {}));
                         // Its spans are marked whether or not they passed the depth test.
                         marks.add(g.bounds(k));
                     }

@@ -119,6 +119,29 @@ impl<const N: usize> Pending<usize, N> {
     ) {
         self.flush_into(shade, |i, c| color[i] = c);
     }
+
+    /// [`Pending::flush_with`] for a pass that queues pixels in row order: `N` pixels side
+    /// by side (the by-pixel pass's short runs, in the interior of a fine mesh) are written
+    /// as one copy rather than one by one. The test costs more than it saves where few
+    /// groups are side by side (a triangle's spans of two or three pixels), so only that
+    /// pass uses it.
+    #[inline(always)]
+    pub fn flush_side_by_side(
+        &mut self,
+        shade: impl FnOnce(&[Attrs; N], usize, f32) -> [Vec3; N],
+        color: &mut [Vec3],
+    ) {
+        let first = self.idx[0];
+        let side_by_side = (1..N).fold(self.len == N, |ok, i| ok & (self.idx[i] == first + i));
+        if side_by_side {
+            if let Some(dst) = color.get_mut(first..first + N) {
+                dst.copy_from_slice(&shade(&self.attrs, N, self.ceiling));
+                self.len = 0;
+                return;
+            }
+        }
+        self.flush_into(shade, |i, c| color[i] = c);
+    }
 }
 
 /// The rows of `N` pixels' attributes as one-pixel-per-lane varyings of the kind of `like`

@@ -206,12 +206,17 @@ fn bin_chunk<S: Shader>(
         data.stepped.push(s);
         (data.stepped.len() - 1) as u32
     };
+    // The per-vertex arrays as slices held in registers, with one bound for both, so that
+    // neither is read again nor bounds-checked per triangle (the loop's pushes could
+    // otherwise alias them).
+    let (clip, pos) = (verts.clip.as_slice(), verts.pos.as_slice());
+    let bound = clip.len().min(pos.len());
     for idx in indices {
-        if idx.iter().any(|&i| i as usize >= verts.clip.len()) {
+        if idx.iter().any(|&i| i as usize >= bound) {
             continue;
         }
         let i = idx.map(|i| i as usize);
-        let p = i.map(|i| verts.pos[i]);
+        let p = i.map(|i| pos[i]);
         if !p.iter().any(ScreenPos::is_none) {
             // The common case: no clipping, screen vertices from the vertex stage.
             let Some(rows) = accept(p, input.cull) else {
@@ -223,11 +228,11 @@ fn bin_chunk<S: Shader>(
             };
             let tri = match S::FACE {
                 Face::Interpolated => 0,
-                Face::Constant => batch.queue(i.map(|i| &verts.clip[i].1), &mut data.colors),
+                Face::Constant => batch.queue(i.map(|i| &clip[i].1), &mut data.colors),
                 Face::Stepped => {
                     let corners = || {
                         std::array::from_fn(|k| {
-                            let (clip, v) = &verts.clip[i[k]];
+                            let (clip, v) = &clip[i[k]];
                             let a = varyings_one(shader, v);
                             ScreenCorner {
                                 x: f64::from(p[k].fx) / 256.0,

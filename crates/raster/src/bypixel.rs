@@ -207,7 +207,9 @@ impl ByPixel<'_> {
                             } else {
                                 1.0
                             };
-                            pending.push(base + x, (&attrs, w, L), rows, color);
+                            if pending.queue(base + x, (&attrs, w, L)) {
+                                pending.flush_side_by_side(rows, color);
+                            }
                             if PERSPECTIVE {
                                 inv_w += at.inv_w.1;
                             }
@@ -222,7 +224,7 @@ impl ByPixel<'_> {
                 i += run;
             }
         }
-        pending.flush_with(rows, color);
+        pending.flush_side_by_side(rows, color);
         quads.flush(lanes, color);
         shaded
     }
@@ -271,7 +273,8 @@ impl<const L: usize> RowPlanes<L> {
     /// `1/w` and the attributes (not divided) at column `x`.
     #[inline(always)]
     pub fn at(&self, x: usize) -> (f64, Attrs) {
-        let ox = (x as f64 + 0.5) - self.origin_x;
+        // Columns are below `MAX_SIDE`: through u32, the conversion is one instruction.
+        let ox = (f64::from(x as u32) + 0.5) - self.origin_x;
         let fx = ox as f32;
         let mut attrs = [0.0; MAX_ATTRS];
         for k in 0..L {
@@ -316,7 +319,7 @@ impl<const N: usize> Quads<N> {
         G: Fn(&AttrLanes, usize, f32) -> [Vec3; N] + ?Sized,
     {
         let g = self.groups & 1;
-        let first = x as f64;
+        let first = f64::from(x as u32);
         // Lane `i` is column `x + i`, as `RowPlanes::at` computes it.
         let ox: [f64; 4] = std::array::from_fn(|i| (first + i as f64 + 0.5) - at.origin_x);
         let fx: [f32; 4] = ox.map(|o| o as f32);

@@ -19,6 +19,7 @@
 //! [`crate::coverage::depth_stored`] do. Every lane operation is the IEEE or integer one, so the
 //! baseline and AVX2 builds of these loops agree bit for bit too.
 
+use glam::Vec3;
 use phosphor_math::fixed::SUBPIXEL_ONE;
 
 use crate::bin::{EXTRA_VERTEX, TriRec};
@@ -200,31 +201,37 @@ impl Group {
 
     /// Draws small record `k` into a band whose first row is `band_y0`, rows `width` pixels
     /// wide in `depth`, with lanes `r`: each pixel that passes the depth test gets its depth
-    /// written, and `row(at, passed, (x, y))` is told, per row with such pixels, the band
-    /// index `at` of the row's first column `x` (image row `y`) and the bits `j` (below 16)
-    /// of the columns `at + j` that passed. Returns the pixels that passed.
+    /// written, and, with `fill = Some((buffer, v))`, `v` at its index in `buffer` (laid out
+    /// as `depth`), eight columns at a time ([`fill_in`]); `row(at, passed, (x, y))` is told,
+    /// per row with such pixels, the band index `at` of the row's first column `x` (image
+    /// row `y`) and the bits `j` (below 16) of the columns `at + j` that passed. The fill is
+    /// done here, not by `row`, so that its lane operations are compiled in the caller's
+    /// instruction set (a closure is compiled in the baseline's). Returns the pixels that
+    /// passed.
     #[inline(always)]
-    pub(crate) fn draw<R: RowLanes>(
+    pub(crate) fn draw<R: RowLanes, T: Fill>(
         &self,
         r: R,
         k: usize,
         band: (&mut [f32], usize, i64),
+        fill: Option<(&mut [T], T)>,
         row: impl FnMut(usize, u32, (i64, i64)),
     ) -> u32 {
         if self.cols[k] >> LANES == 0 {
-            self.draw_rows::<R, 1>(r, k, band, row)
+            self.draw_rows::<R, T, 1>(r, k, band, fill, row)
         } else {
-            self.draw_rows::<R, 2>(r, k, band, row)
+            self.draw_rows::<R, T, 2>(r, k, band, fill, row)
         }
     }
 
     /// [`Group::draw`] with `V` vectors of eight columns per row.
     #[inline(always)]
-    fn draw_rows<R: RowLanes, const V: usize>(
+    fn draw_rows<R: RowLanes, T: Fill, const V: usize>(
         &self,
         r: R,
         k: usize,
         (depth, width, band_y0): (&mut [f32], usize, i64),
+        mut fill: Option<(&mut [T], T)>,
         mut row: impl FnMut(usize, u32, (i64, i64)),
     ) -> u32 {
         let lo = self.lo[k];
@@ -302,6 +309,9 @@ impl Group {
                 passed |= hit << (LANES * h);
             }
             if passed != 0 {
+                if let Some((buffer, v)) = &mut fill {
+                    fill_in(r, buffer, here, passed, *v);
+                }
                 row(here, passed, (i64::from(lo), i64::from(y)));
                 passed_all += passed.count_ones();
             }
@@ -355,26 +365,49 @@ impl Marks {
     }
 }
 
-/// Calls `f(&mut row[at + j])` for each set bit `j` (below 16) of `bits`, lowest first: the
-/// per-pixel writes of a row [`Group::draw`] reports, with one bounds check per row where
-/// the row's sixteen pixels lie inside `row`.
+/// A value [`Group::draw`] writes to each pixel that passes: a colour, or an id.
+pub(crate) trait Fill: Copy {
+    /// `px[j] = v` where `passed` has bit `j` (below 8), with lanes `r`; the others written
+    /// back unchanged.
+    fn eight<R: RowLanes>(r: R, passed: u32, v: Self, px: &mut [Self; LANES]);
+}
+
+impl Fill for Vec3 {
+    #[inline(always)]
+    fn eight<R: RowLanes>(r: R, passed: u32, v: Vec3, px: &mut [Vec3; LANES]) {
+        r.fill_rgb(passed, v, px);
+    }
+}
+
+impl Fill for u64 {
+    #[inline(always)]
+    fn eight<R: RowLanes>(r: R, passed: u32, v: u64, px: &mut [u64; LANES]) {
+        r.fill_id(passed, v, px);
+    }
+}
+
+/// `row[at + j] = v` for each set bit `j` (below 16) of `bits`: the per-pixel writes of a
+/// row [`Group::draw`] reports. Each eight columns lying inside `row` are written at once
+/// with lanes `r` ([`Fill::eight`]), so a row costs a few vector operations instead of a
+/// loop over its pixels; the band's last columns are written one by one.
 #[inline(always)]
-pub(crate) fn for_bits_in<T>(
-    row: &mut [T],
-    at: usize,
-    bits: u32,
-    mut f: impl FnMut(&mut T, usize),
-) {
-    match row
-        .get_mut(at..at + 2 * LANES)
-        .map(<&mut [T; 2 * LANES]>::try_from)
-    {
-        Some(Ok(px)) => for_bits(bits, |j| f(&mut px[j & 15], j)),
-        _ => for_bits(bits, |j| {
-            if let Some(p) = row.get_mut(at + j) {
-                f(p, j);
-            }
-        }),
+pub(crate) fn fill_in<R: RowLanes, T: Fill>(r: R, row: &mut [T], at: usize, bits: u32, v: T) {
+    for h in 0..2 {
+        let (part, first) = ((bits >> (LANES * h)) & 0xff, at + LANES * h);
+        if part == 0 {
+            continue;
+        }
+        match row
+            .get_mut(first..first + LANES)
+            .map(<&mut [T; LANES]>::try_from)
+        {
+            Some(Ok(px)) => T::eight(r, part, v, px),
+            _ => for_bits(part, |j| {
+                if let Some(p) = row.get_mut(first + j) {
+                    *p = v;
+                }
+            }),
+        }
     }
 }
 
@@ -425,6 +458,11 @@ pub(crate) trait RowLanes: Copy {
     /// `stored[j]` set to `d[j]` (negatives, -0 and NaN as 0: `depth_stored`) where `passed`
     /// has bit `j`; the other lanes are written back unchanged.
     fn store(self, passed: u32, d: Self::F, stored: &mut [f32; LANES]);
+    /// `px[j] = rgb` where `passed` has bit `j` (below 8); the other pixels written back
+    /// unchanged.
+    fn fill_rgb(self, passed: u32, rgb: Vec3, px: &mut [Vec3; LANES]);
+    /// `px[j] = id` where `passed` has bit `j` (below 8); the others written back unchanged.
+    fn fill_id(self, passed: u32, id: u64, px: &mut [u64; LANES]);
 }
 
 /// [`RowLanes`] with `wide`'s vectors, for any CPU.
@@ -474,6 +512,14 @@ impl RowLanes for Portable {
             stored[j & 7] = if d[j & 7] > 0.0 { d[j & 7] } else { 0.0 }
         });
     }
+    #[inline(always)]
+    fn fill_rgb(self, passed: u32, rgb: Vec3, px: &mut [Vec3; LANES]) {
+        for_bits(passed, |j| px[j & 7] = rgb);
+    }
+    #[inline(always)]
+    fn fill_id(self, passed: u32, id: u64, px: &mut [u64; LANES]) {
+        for_bits(passed, |j| px[j & 7] = id);
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -481,6 +527,8 @@ mod avx2 {
     use std::arch::x86_64::{__m256, __m256d, __m256i};
 
     use pulp::x86::V3;
+
+    use glam::Vec3;
 
     use super::{LANES, RowLanes};
 
@@ -550,6 +598,51 @@ mod avx2 {
             // wins those), as `depth_stored`'s compare-select.
             let keep = a._mm256_max_ps(d, a._mm256_setzero_ps());
             *stored = pulp::cast(a._mm256_blendv_ps(pulp::cast(*stored), keep, mask));
+        }
+        #[inline(always)]
+        fn fill_rgb(self, passed: u32, rgb: Vec3, px: &mut [Vec3; LANES]) {
+            let (a, a2) = (self.avx, self.avx2);
+            // The 24 floats of eight pixels as three vectors: float `i` belongs to pixel
+            // `i / 3`, and is channel `i % 3` of `rgb`.
+            let flat: &mut [f32; 3 * LANES] = bytemuck::cast_mut(px);
+            let (r, g, b) = (rgb.x, rgb.y, rgb.z);
+            let value = [
+                a._mm256_setr_ps(r, g, b, r, g, b, r, g),
+                a._mm256_setr_ps(b, r, g, b, r, g, b, r),
+                a._mm256_setr_ps(g, b, r, g, b, r, g, b),
+            ];
+            let bits = [
+                a._mm256_setr_epi32(1, 1, 1, 2, 2, 2, 4, 4),
+                a._mm256_setr_epi32(4, 8, 8, 8, 16, 16, 16, 32),
+                a._mm256_setr_epi32(32, 32, 64, 64, 64, 128, 128, 128),
+            ];
+            let all = a._mm256_set1_epi32(passed as i32);
+            for (i, chunk) in flat.chunks_exact_mut(LANES).enumerate() {
+                let Ok(chunk) = <&mut [f32; LANES]>::try_from(chunk) else {
+                    continue;
+                };
+                let set = a2._mm256_cmpeq_epi32(a2._mm256_and_si256(all, bits[i]), bits[i]);
+                let mask = a._mm256_castsi256_ps(set);
+                *chunk = pulp::cast(a._mm256_blendv_ps(pulp::cast(*chunk), value[i], mask));
+            }
+        }
+        #[inline(always)]
+        fn fill_id(self, passed: u32, id: u64, px: &mut [u64; LANES]) {
+            let (a, a2) = (self.avx, self.avx2);
+            let value = a._mm256_set1_epi64x(id as i64);
+            let bits = [
+                a._mm256_setr_epi64x(1, 2, 4, 8),
+                a._mm256_setr_epi64x(16, 32, 64, 128),
+            ];
+            let all = a._mm256_set1_epi64x(i64::from(passed));
+            for (i, chunk) in px.chunks_exact_mut(LANES / 2).enumerate() {
+                let Ok(chunk) = <&mut [u64; LANES / 2]>::try_from(chunk) else {
+                    continue;
+                };
+                let mask = a2._mm256_cmpeq_epi64(a2._mm256_and_si256(all, bits[i]), bits[i]);
+                let old: __m256i = pulp::cast(*chunk);
+                *chunk = pulp::cast(a2._mm256_blendv_epi8(old, value, mask));
+            }
         }
     }
 

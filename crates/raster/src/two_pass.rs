@@ -13,7 +13,7 @@ use crate::bypixel::ByPixel;
 use crate::clip::Attrs;
 use crate::coverage::{BandTarget, Pass, depth_only, lanes};
 use crate::framebuffer::layer::LayerRows;
-use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes, for_bits_in};
+use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
 use crate::shader::{Face, Shader, interpolated};
@@ -270,9 +270,7 @@ fn depth_loop<S: Shader, R: RowLanes>(
                 match g.kind[k] {
                     Kind::Small => {
                         let band = (&mut *target.depth, width, y0);
-                        let passed = g.draw(lanes, k, band, |at, passed, _| {
-                            for_bits_in(ids, at, passed, |id, _| *id = seq);
-                        });
+                        let passed = g.draw(lanes, k, band, Some((&mut *ids, seq)), |_, _, _| {});
                         if passed > 0 {
                             marks.add(g.bounds(k));
                         }

@@ -107,9 +107,7 @@ fn grouped<R: RowLanes>(r: R, pos: &[ScreenPos], recs: &[TriRec]) -> (Vec<f32>, 
                 Kind::Small => {
                     small += 1;
                     let band = (&mut *target.depth, WIDTH as usize, BAND.0);
-                    let passed = g.draw(r, k, band, |at, passed, _| {
-                        for_bits_in(&mut ids, at, passed, |i, _| *i = id);
-                    });
+                    let passed = g.draw(r, k, band, Some((&mut ids[..], id)), |_, _, _| {});
                     if passed > 0 {
                         marks.add(g.bounds(k));
                     }
@@ -251,6 +249,7 @@ fn the_depth_formula_is_the_one_the_lanes_compute() {
         Portable,
         0,
         (&mut depth, WIDTH as usize, BAND.0),
+        None::<(&mut [u64], u64)>,
         |at, passed, xy| {
             rows.push((at, passed, xy));
         },
@@ -273,4 +272,48 @@ fn the_depth_formula_is_the_one_the_lanes_compute() {
         });
     }
     assert!(seen > 10, "{seen} pixels");
+}
+
+/// Rows written by `fill_in` with lanes `r`, a colour and an id per step, against writing
+/// each passed pixel one by one: the same pixels at every step, windows at the row's end
+/// included.
+fn fill_matches_one_by_one<R: RowLanes>(r: R, seed: u64) {
+    let mut rng = Rng(seed);
+    let len = WIDTH as usize;
+    let (mut color, mut ids) = (vec![Vec3::ZERO; len], vec![0u64; len]);
+    let (mut want_color, mut want_ids) = (color.clone(), ids.clone());
+    for step in 1..=400u64 {
+        let at = rng.range(0, WIDTH as i32) as usize;
+        let bits = (rng.next() & 0xffff) as u32;
+        let rgb = Vec3::new(step as f32, -(step as f32), 0.5 / step as f32);
+        let id = step << 40 | rng.next() >> 40;
+        fill_in(r, &mut color, at, bits, rgb);
+        fill_in(r, &mut ids, at, bits, id);
+        for j in (0..16).filter(|j| bits >> j & 1 == 1 && at + j < len) {
+            (want_color[at + j], want_ids[at + j]) = (rgb, id);
+        }
+        assert_eq!(
+            want_ids, ids,
+            "ids after step {step} (at {at}, bits {bits:#x})"
+        );
+        let bits_of = |c: &[Vec3]| -> Vec<[u32; 3]> {
+            c.iter().map(|v| v.to_array().map(f32::to_bits)).collect()
+        };
+        assert_eq!(
+            bits_of(&want_color),
+            bits_of(&color),
+            "colours after step {step}"
+        );
+    }
+}
+
+#[test]
+fn rows_filled_eight_columns_at_a_time_set_exactly_the_passed_pixels() {
+    for seed in [3, 0x2545_f491_4f6c_dd1d] {
+        fill_matches_one_by_one(Portable, seed);
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = phosphor_lighting::Avx2::detect() {
+            avx2.run(|a: phosphor_lighting::Avx2| fill_matches_one_by_one(a.v3(), seed));
+        }
+    }
 }
