@@ -258,6 +258,11 @@ impl<S: Shader> phosphor_lighting::Avx2Task for SingleRun<'_, '_, '_, S> {
     type Output = u64;
     #[inline(always)]
     fn run(self, avx2: phosphor_lighting::Avx2) -> u64 {
-        single_loop::<S, true, _>(self.input, self.b, self.target, avx2.v3())
+        single_loop::<S, true, _>(
+            self.input,
+            self.b,
+            self.target,
+            crate::group::Avx2Rows::new(avx2.v3()),
+        )
     }
 }

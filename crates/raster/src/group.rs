@@ -535,37 +535,61 @@ mod avx2 {
     /// `_mm256_cmp_ps`'s ordered, quiet less-than (false with a NaN, as `<`).
     const LT_OQ: i32 = 0x11;
 
-    impl RowLanes for V3 {
+    /// [`RowLanes`] in AVX2 registers: `pulp`'s `V3` token, and a zero vector that LLVM cannot
+    /// see through. Each store blends the new lanes into the loaded row and writes the row
+    /// whole; without the zero or-ed into the loaded row, LLVM turns that load, blend and
+    /// store into one masked store (`vmaskmovps`), which AMD's cores run many times slower.
+    #[derive(Debug, Clone, Copy)]
+    pub(crate) struct Avx2Rows {
+        v: V3,
+        zero: __m256,
+    }
+
+    impl Avx2Rows {
+        /// The lanes of `v`.
+        #[inline(always)]
+        pub(crate) fn new(v: V3) -> Avx2Rows {
+            let zero = std::hint::black_box(v.avx._mm256_setzero_ps());
+            Avx2Rows { v, zero }
+        }
+    }
+
+    impl RowLanes for Avx2Rows {
         type I = __m256i;
         type D = [__m256d; 2];
         type F = __m256;
         #[inline(always)]
         fn ramp(self, e: i32, step: i32) -> __m256i {
-            let j = self.avx._mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+            let j = self.v.avx._mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
             let s = self
+                .v
                 .avx2
-                ._mm256_mullo_epi32(j, self.avx._mm256_set1_epi32(step));
-            self.avx2._mm256_add_epi32(s, self.avx._mm256_set1_epi32(e))
+                ._mm256_mullo_epi32(j, self.v.avx._mm256_set1_epi32(step));
+            self.v
+                .avx2
+                ._mm256_add_epi32(s, self.v.avx._mm256_set1_epi32(e))
         }
         #[inline(always)]
         fn splat(self, x: i32) -> __m256i {
-            self.avx._mm256_set1_epi32(x)
+            self.v.avx._mm256_set1_epi32(x)
         }
         #[inline(always)]
         fn add(self, a: __m256i, b: __m256i) -> __m256i {
-            self.avx2._mm256_add_epi32(a, b)
+            self.v.avx2._mm256_add_epi32(a, b)
         }
         #[inline(always)]
         fn outside(self, v: [__m256i; 3]) -> u32 {
             let any = self
+                .v
                 .avx2
-                ._mm256_or_si256(self.avx2._mm256_or_si256(v[0], v[1]), v[2]);
-            self.avx
-                ._mm256_movemask_ps(self.avx._mm256_castsi256_ps(any)) as u32
+                ._mm256_or_si256(self.v.avx2._mm256_or_si256(v[0], v[1]), v[2]);
+            self.v
+                .avx
+                ._mm256_movemask_ps(self.v.avx._mm256_castsi256_ps(any)) as u32
         }
         #[inline(always)]
         fn depth_cols(self, lo: i32, ox: f64, zx: f64) -> [__m256d; 2] {
-            let a = self.avx;
+            let a = self.v.avx;
             let l = f64::from(lo);
             let x = [
                 a._mm256_setr_pd(l, l + 1.0, l + 2.0, l + 3.0),
@@ -577,33 +601,38 @@ mod avx2 {
         }
         #[inline(always)]
         fn depths(self, base: f64, c: [__m256d; 2]) -> [f32; LANES] {
-            pulp::cast(cvt(self, base, c))
+            pulp::cast(cvt(self.v, base, c))
         }
         #[inline(always)]
         fn less(self, base: f64, c: [__m256d; 2], stored: &[f32; LANES]) -> (u32, __m256) {
-            let d = cvt(self, base, c);
+            let d = cvt(self.v, base, c);
             let s = pulp::cast(*stored);
             let less = self
+                .v
                 .avx
-                ._mm256_movemask_ps(self.avx._mm256_cmp_ps::<LT_OQ>(d, s));
+                ._mm256_movemask_ps(self.v.avx._mm256_cmp_ps::<LT_OQ>(d, s));
             (less as u32, d)
         }
         #[inline(always)]
         fn store(self, passed: u32, d: __m256, stored: &mut [f32; LANES]) {
-            let (a, a2) = (self.avx, self.avx2);
-            let bit = a._mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-            let lanes = a2._mm256_and_si256(a._mm256_set1_epi32(passed as i32), bit);
-            let mask = a._mm256_castsi256_ps(a2._mm256_cmpeq_epi32(lanes, bit));
+            let a = self.v.avx;
+            let mask = sign_mask(
+                self.v,
+                passed,
+                a._mm256_setr_epi32(31, 30, 29, 28, 27, 26, 25, 24),
+            );
             // `_mm256_max_ps(d, 0)` is 0 for a NaN, -0 or negative `d` (the second operand
             // wins those), as `depth_stored`'s compare-select.
             let keep = a._mm256_max_ps(d, a._mm256_setzero_ps());
-            *stored = pulp::cast(a._mm256_blendv_ps(pulp::cast(*stored), keep, mask));
+            let old = a._mm256_or_ps(pulp::cast(*stored), self.zero);
+            *stored = pulp::cast(a._mm256_blendv_ps(old, keep, mask));
         }
         #[inline(always)]
         fn fill_rgb(self, passed: u32, rgb: Vec3, px: &mut [Vec3; LANES]) {
-            let (a, a2) = (self.avx, self.avx2);
+            let a = self.v.avx;
             // The 24 floats of eight pixels as three vectors: float `i` belongs to pixel
-            // `i / 3`, and is channel `i % 3` of `rgb`.
+            // `i / 3` (its bit of `passed` shifted to the sign by `31 - i / 3`), and is
+            // channel `i % 3` of `rgb`.
             let flat: &mut [f32; 3 * LANES] = bytemuck::cast_mut(px);
             let (r, g, b) = (rgb.x, rgb.y, rgb.z);
             let value = [
@@ -611,39 +640,47 @@ mod avx2 {
                 a._mm256_setr_ps(b, r, g, b, r, g, b, r),
                 a._mm256_setr_ps(g, b, r, g, b, r, g, b),
             ];
-            let bits = [
-                a._mm256_setr_epi32(1, 1, 1, 2, 2, 2, 4, 4),
-                a._mm256_setr_epi32(4, 8, 8, 8, 16, 16, 16, 32),
-                a._mm256_setr_epi32(32, 32, 64, 64, 64, 128, 128, 128),
+            let shift = [
+                a._mm256_setr_epi32(31, 31, 31, 30, 30, 30, 29, 29),
+                a._mm256_setr_epi32(29, 28, 28, 28, 27, 27, 27, 26),
+                a._mm256_setr_epi32(26, 26, 25, 25, 25, 24, 24, 24),
             ];
-            let all = a._mm256_set1_epi32(passed as i32);
             for (i, chunk) in flat.chunks_exact_mut(LANES).enumerate() {
                 let Ok(chunk) = <&mut [f32; LANES]>::try_from(chunk) else {
                     continue;
                 };
-                let set = a2._mm256_cmpeq_epi32(a2._mm256_and_si256(all, bits[i]), bits[i]);
-                let mask = a._mm256_castsi256_ps(set);
-                *chunk = pulp::cast(a._mm256_blendv_ps(pulp::cast(*chunk), value[i], mask));
+                let mask = sign_mask(self.v, passed, shift[i]);
+                let old = a._mm256_or_ps(pulp::cast(*chunk), self.zero);
+                *chunk = pulp::cast(a._mm256_blendv_ps(old, value[i], mask));
             }
         }
         #[inline(always)]
         fn fill_id(self, passed: u32, id: u64, px: &mut [u64; LANES]) {
-            let (a, a2) = (self.avx, self.avx2);
-            let value = a._mm256_set1_epi64x(id as i64);
-            let bits = [
-                a._mm256_setr_epi64x(1, 2, 4, 8),
-                a._mm256_setr_epi64x(16, 32, 64, 128),
-            ];
+            let (a, a2) = (self.v.avx, self.v.avx2);
+            let value = a._mm256_castsi256_pd(a._mm256_set1_epi64x(id as i64));
             let all = a._mm256_set1_epi64x(i64::from(passed));
+            let shift = [
+                a._mm256_setr_epi64x(63, 62, 61, 60),
+                a._mm256_setr_epi64x(59, 58, 57, 56),
+            ];
             for (i, chunk) in px.chunks_exact_mut(LANES / 2).enumerate() {
                 let Ok(chunk) = <&mut [u64; LANES / 2]>::try_from(chunk) else {
                     continue;
                 };
-                let mask = a2._mm256_cmpeq_epi64(a2._mm256_and_si256(all, bits[i]), bits[i]);
-                let old: __m256i = pulp::cast(*chunk);
-                *chunk = pulp::cast(a2._mm256_blendv_epi8(old, value, mask));
+                let mask = a._mm256_castsi256_pd(a2._mm256_sllv_epi64(all, shift[i]));
+                let old = a._mm256_or_pd(pulp::cast(*chunk), a._mm256_castps_pd(self.zero));
+                *chunk = pulp::cast(a._mm256_blendv_pd(old, value, mask));
             }
         }
+    }
+
+    /// Lane `j` with bit `31 - shift[j]` of `passed` in its sign: a blend mask
+    /// (`_mm256_blendv_ps` reads only the signs), in two operations.
+    #[inline(always)]
+    fn sign_mask(v: V3, passed: u32, shift: __m256i) -> __m256 {
+        let a = v.avx;
+        let all = a._mm256_set1_epi32(passed as i32);
+        a._mm256_castsi256_ps(v.avx2._mm256_sllv_epi32(all, shift))
     }
 
     /// `(base + c[j]) as f32` in lane `j`: the sum in f64, rounded to nearest.
@@ -662,6 +699,9 @@ mod avx2 {
 fn first_centre(f: i32) -> i32 {
     f.wrapping_add(SUBPIXEL_ONE as i32 - 1 - HALF) >> phosphor_math::fixed::SUBPIXEL_BITS
 }
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx2::Avx2Rows;
 
 #[cfg(test)]
 #[path = "tests/group_unit.rs"]

@@ -242,7 +242,15 @@ impl<S: Shader> phosphor_lighting::Avx2Task for DepthRun<'_, '_, '_, S> {
             extents,
             epoch,
         } = self;
-        depth_loop(input, b, target, ids, extents, epoch, avx2.v3())
+        depth_loop(
+            input,
+            b,
+            target,
+            ids,
+            extents,
+            epoch,
+            crate::group::Avx2Rows::new(avx2.v3()),
+        )
     }
 }
 

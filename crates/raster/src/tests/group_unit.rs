@@ -180,7 +180,7 @@ fn small_triangles_in_lanes_draw_what_one_at_a_time_draws() {
         check(Portable, seed);
         #[cfg(target_arch = "x86_64")]
         if let Some(avx2) = phosphor_lighting::Avx2::detect() {
-            avx2.run(|a: phosphor_lighting::Avx2| check(a.v3(), seed));
+            avx2.run(|a: phosphor_lighting::Avx2| check(Avx2Rows::new(a.v3()), seed));
         }
     }
 }
@@ -313,7 +313,9 @@ fn rows_filled_eight_columns_at_a_time_set_exactly_the_passed_pixels() {
         fill_matches_one_by_one(Portable, seed);
         #[cfg(target_arch = "x86_64")]
         if let Some(avx2) = phosphor_lighting::Avx2::detect() {
-            avx2.run(|a: phosphor_lighting::Avx2| fill_matches_one_by_one(a.v3(), seed));
+            avx2.run(|a: phosphor_lighting::Avx2| {
+                fill_matches_one_by_one(Avx2Rows::new(a.v3()), seed)
+            });
         }
     }
 }
