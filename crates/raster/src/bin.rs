@@ -232,12 +232,12 @@ fn bin_chunk<S: Shader>(
                 Face::Stepped => {
                     let corners = || {
                         std::array::from_fn(|k| {
-                            let (clip, v) = &clip[i[k]];
+                            let (c, v) = &clip[i[k]];
                             let a = varyings_one(shader, v);
                             ScreenCorner {
                                 x: f64::from(p[k].fx) / 256.0,
                                 y: f64::from(p[k].fy) / 256.0,
-                                rhw: 1.0 / f64::from(clip.w),
+                                rhw: 1.0 / f64::from(c.w),
                                 varyings: std::array::from_fn(|j| f64::from(a[j])),
                             }
                         })

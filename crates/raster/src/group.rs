@@ -554,6 +554,18 @@ mod avx2 {
         }
     }
 
+    impl Avx2Rows {
+        /// `row[j] = value[j]` where `mask[j]`'s sign is set: the row loaded, blended and
+        /// stored whole, with the hidden zero or-ed into the loaded row so that LLVM keeps the
+        /// plain store (see [`Avx2Rows`]).
+        #[inline(always)]
+        fn blend_row(self, row: &mut [f32; LANES], value: __m256, mask: __m256) {
+            let a = self.v.avx;
+            let old = a._mm256_or_ps(pulp::cast(*row), self.zero);
+            *row = pulp::cast(a._mm256_blendv_ps(old, value, mask));
+        }
+    }
+
     impl RowLanes for Avx2Rows {
         type I = __m256i;
         type D = [__m256d; 2];
@@ -624,8 +636,7 @@ mod avx2 {
             // `_mm256_max_ps(d, 0)` is 0 for a NaN, -0 or negative `d` (the second operand
             // wins those), as `depth_stored`'s compare-select.
             let keep = a._mm256_max_ps(d, a._mm256_setzero_ps());
-            let old = a._mm256_or_ps(pulp::cast(*stored), self.zero);
-            *stored = pulp::cast(a._mm256_blendv_ps(old, keep, mask));
+            self.blend_row(stored, keep, mask);
         }
         #[inline(always)]
         fn fill_rgb(self, passed: u32, rgb: Vec3, px: &mut [Vec3; LANES]) {
@@ -649,9 +660,7 @@ mod avx2 {
                 let Ok(chunk) = <&mut [f32; LANES]>::try_from(chunk) else {
                     continue;
                 };
-                let mask = sign_mask(self.v, passed, shift[i]);
-                let old = a._mm256_or_ps(pulp::cast(*chunk), self.zero);
-                *chunk = pulp::cast(a._mm256_blendv_ps(old, value[i], mask));
+                self.blend_row(chunk, value[i], sign_mask(self.v, passed, shift[i]));
             }
         }
         #[inline(always)]
