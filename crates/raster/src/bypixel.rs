@@ -188,40 +188,53 @@ impl ByPixel<'_> {
             let yc = (self.y0 + row as i64) as f64 + 0.5;
             let mut i = 0;
             while let Some(&id) = row_ids.get(i) {
-                let run = row_ids[i..].iter().take_while(|&&r| r == id).count();
-                if let Some(p) = self.planes_of(id) {
-                    let at = RowPlanes::<L>::of(p, yc);
-                    // Short runs (most of a fine mesh's) stay one pixel at a time: cutting
-                    // them into lanes cost more in branches than the lanes saved.
-                    let whole = if run >= QUAD_RUN { run & !3 } else { 0 };
-                    let x0 = lo + i;
+                let Some(p) = self.planes_of(id) else {
+                    i += 1;
+                    continue;
+                };
+                let at = RowPlanes::<L>::of(p, yc);
+                // A run of `QUAD_RUN` or more: its whole groups of four into lanes. Short
+                // runs (most of a fine mesh's) stay one pixel at a time: cutting them into
+                // lanes cost more in branches than the lanes saved.
+                let long = row_ids.get(i..i + QUAD_RUN);
+                if long.is_some_and(|w| w.iter().all(|&r| r == id)) {
+                    let more = row_ids[i + QUAD_RUN..].iter().take_while(|&&r| r == id);
+                    let whole = (QUAD_RUN + more.count()) & !3;
                     for q in (0..whole).step_by(4) {
-                        quads.push::<PERSPECTIVE, L, G>(&at, x0 + q, base, lanes, color);
+                        quads.push::<PERSPECTIVE, L, G>(&at, lo + i + q, base, lanes, color);
                     }
-                    if whole < run {
-                        let x = x0 + whole;
-                        let (mut inv_w, mut attrs) = at.at(x);
-                        for x in x..x0 + run {
-                            let w = if PERSPECTIVE {
-                                (1.0 / inv_w) as f32
-                            } else {
-                                1.0
-                            };
-                            if pending.queue(base + x, (&attrs, w, L)) {
-                                pending.flush_side_by_side(rows, color);
-                            }
-                            if PERSPECTIVE {
-                                inv_w += at.inv_w.1;
-                            }
-                            // Whole vectors, as in `Pending::push`.
-                            for k in 0..L {
-                                attrs[k] += at.dx[k];
-                            }
-                        }
-                    }
-                    shaded += run as u64;
+                    i += whole;
+                    shaded += whole as u64;
                 }
-                i += run;
+                // The rest of the run pixel by pixel: evaluated at the first, stepped by
+                // `dA/dx`. The run's end is found on the way, with no scan ahead.
+                if row_ids.get(i) != Some(&id) {
+                    continue;
+                }
+                let start = i;
+                let (mut inv_w, mut attrs) = at.at(lo + i);
+                while row_ids.get(i) == Some(&id) {
+                    let w = if PERSPECTIVE {
+                        (1.0 / inv_w) as f32
+                    } else {
+                        1.0
+                    };
+                    if pending.queue(base + lo + i, (&attrs, w, L)) {
+                        // Once per `N` pixels: what the loop keeps in registers is saved
+                        // around the shading call here, not on every pixel.
+                        seldom();
+                        pending.flush_side_by_side(rows, color);
+                    }
+                    if PERSPECTIVE {
+                        inv_w += at.inv_w.1;
+                    }
+                    // Whole vectors, as in `Pending::push`.
+                    for k in 0..L {
+                        attrs[k] += at.dx[k];
+                    }
+                    i += 1;
+                }
+                shaded += (i - start) as u64;
             }
         }
         pending.flush_side_by_side(rows, color);
@@ -229,6 +242,12 @@ impl ByPixel<'_> {
         shaded
     }
 }
+
+/// Marks the branch that calls it as rarely taken, so that LLVM places the spills of the loop
+/// around it there (`std::hint::cold_path` is newer than the crate's minimum Rust).
+#[cold]
+#[inline(never)]
+fn seldom() {}
 
 /// The shortest run whose pixels go into lanes four at a time ([`Quads`]).
 const QUAD_RUN: usize = 8;

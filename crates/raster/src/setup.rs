@@ -280,41 +280,22 @@ impl RasterTri {
         n: usize,
         perspective: bool,
     ) -> bool {
-        self.set_impl::<true>(p, attrs, n, perspective)
-    }
-
-    /// [`RasterTri::set`] without the edges and pixel box: only the planes (origin, depth,
-    /// `1/w`, attributes), bit for bit as `set` computes them. For a pass that reads the
-    /// planes of a triangle whose pixels are already known (by-pixel shading).
-    #[inline]
-    pub fn set_planes(
-        &mut self,
-        p: [ScreenPos; 3],
-        attrs: [&[f32]; 3],
-        n: usize,
-        perspective: bool,
-    ) -> bool {
-        self.set_impl::<false>(p, attrs, n, perspective)
+        self.set_impl(p, attrs, n, perspective)
     }
 
     #[inline(always)]
-    fn set_impl<const EDGES: bool>(
+    fn set_impl(
         &mut self,
         p: [ScreenPos; 3],
         attrs: [&[f32]; 3],
         n: usize,
         perspective: bool,
     ) -> bool {
-        let area = screen_area2(&p);
-        if area == 0 {
+        let Some(basis) = PlaneBasis::of(p, attrs) else {
             return false;
-        }
-        // Interior on the positive side of every edge.
-        let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };
-        let (p, attrs) = (order.map(|i| p[i]), order.map(|i| attrs[i]));
-        let f = p.map(|p| (i64::from(p.fx), i64::from(p.fy)));
-        let area = area.abs();
-        for i in (0..3).filter(|_| EDGES) {
+        };
+        let f = basis.f;
+        for i in 0..3 {
             let (p, q) = (f[i], f[(i + 1) % 3]);
             // E(S) = (q - p) x (S - p) = (qx - px)(Sy - py) - (qy - py)(Sx - px).
             let a = -(q.1 - p.1);
@@ -324,38 +305,13 @@ impl RasterTri {
             self.edge_b[i] = b;
             self.edge_c[i] = -(a * p.0 + b * p.1) - i64::from(!top_left);
         }
-        if EDGES {
-            (self.x0, self.x1) = row_range([f[0].0, f[1].0, f[2].0]);
-            (self.y0, self.y1) = row_range([f[0].1, f[1].1, f[2].1]);
-        }
-        // Plane gradients: A = A0 + gx (x - x0) + gy (y - y0) through the three vertices.
-        let xy = f.map(|(x, y)| (x as f64 * INV_ONE, y as f64 * INV_ONE));
-        let (dx1, dy1) = (xy[1].0 - xy[0].0, xy[1].1 - xy[0].1);
-        let (dx2, dy2) = (xy[2].0 - xy[0].0, xy[2].1 - xy[0].1);
-        let inv_area = (SUBPIXEL_ONE * SUBPIXEL_ONE) as f64 / area as f64;
-        let plane = |a0: f64, a1: f64, a2: f64| {
-            let (d1, d2) = (a1 - a0, a2 - a0);
-            [
-                a0,
-                (d1 * dy2 - d2 * dy1) * inv_area,
-                (d2 * dx1 - d1 * dx2) * inv_area,
-            ]
-        };
-        let [a0, a1, a2] = attrs;
-        for k in 0..n {
-            let [a, gx, gy] = plane(a0[k] as f64, a1[k] as f64, a2[k] as f64);
-            self.attr0[k] = a as f32;
-            self.attr_dx[k] = gx as f32;
-            self.attr_dy[k] = gy as f32;
-        }
-        self.origin = xy[0];
-        self.depth = plane(p[0].depth, p[1].depth, p[2].depth);
-        // 1/w only matters to attributes.
-        self.inv_w = if perspective && n > 0 {
-            plane(p[0].inv_w, p[1].inv_w, p[2].inv_w)
-        } else {
-            [1.0, 0.0, 0.0]
-        };
+        (self.x0, self.x1) = row_range([f[0].0, f[1].0, f[2].0]);
+        (self.y0, self.y1) = row_range([f[0].1, f[1].1, f[2].1]);
+        basis.attrs(n, [&mut self.attr0, &mut self.attr_dx, &mut self.attr_dy]);
+        self.origin = basis.origin;
+        let p = &basis.p;
+        self.depth = basis.plane(p[0].depth, p[1].depth, p[2].depth);
+        self.inv_w = basis.inv_w(n, perspective);
         self.n = n;
         self.perspective = perspective && n > 0;
         true
@@ -367,29 +323,9 @@ impl RasterTri {
     /// turns them into what [`crate::shader::uv_derivatives`] reads.
     #[inline(always)]
     pub fn add_gradients(&mut self, k: usize) {
-        let at = self.n;
-        if k + 1 >= at || at + GRADIENT_SLOTS > MAX_ATTRS {
-            return;
-        }
-        let (rx, ry) = if self.perspective {
-            (self.inv_w[1] as f32, self.inv_w[2] as f32)
-        } else {
-            (0.0, 0.0)
-        };
-        let g = [
-            self.attr_dx[k],
-            self.attr_dx[k + 1],
-            self.attr_dy[k],
-            self.attr_dy[k + 1],
-            rx,
-            ry,
-        ];
-        for (j, g) in g.into_iter().enumerate() {
-            self.attr0[at + j] = g;
-            self.attr_dx[at + j] = 0.0;
-            self.attr_dy[at + j] = 0.0;
-        }
-        self.n = at + GRADIENT_SLOTS;
+        let planes = [&mut self.attr0, &mut self.attr_dx, &mut self.attr_dy];
+        let r = (self.inv_w, self.perspective);
+        self.n = append_gradients(planes, r, self.n, k);
     }
 
     /// Edge values at the centre of pixel `(x, y)`.
@@ -404,6 +340,149 @@ impl RasterTri {
             a[1] * cx + b[1] * cy + c[1],
             a[2] * cx + b[2] * cy + c[2],
         ]
+    }
+}
+
+/// The first `n` of `a` followed by zeros (all zeros if `a` is shorter).
+#[inline(always)]
+fn padded<const L: usize>(a: &[f32], n: usize) -> [f32; L] {
+    let mut v = [0.0f32; L];
+    if let Some(a) = a.get(..n) {
+        v[..n].copy_from_slice(a);
+    }
+    v
+}
+
+/// The gradient slots of [`RasterTri::add_gradients`] appended after attribute `at` of the
+/// planes `[attr0, attr_dx, attr_dy]`, `1/w`'s gradients taken from `inv_w` when
+/// `perspective`; returns the attributes then in use (`at` when they do not fit).
+#[inline(always)]
+pub(crate) fn append_gradients(
+    [attr0, attr_dx, attr_dy]: [&mut Attrs; 3],
+    (inv_w, perspective): ([f64; 3], bool),
+    at: usize,
+    k: usize,
+) -> usize {
+    if k + 1 >= at || at + GRADIENT_SLOTS > MAX_ATTRS {
+        return at;
+    }
+    let (rx, ry) = if perspective {
+        (inv_w[1] as f32, inv_w[2] as f32)
+    } else {
+        (0.0, 0.0)
+    };
+    let g = [
+        attr_dx[k],
+        attr_dx[k + 1],
+        attr_dy[k],
+        attr_dy[k + 1],
+        rx,
+        ry,
+    ];
+    for (j, g) in g.into_iter().enumerate() {
+        attr0[at + j] = g;
+        attr_dx[at + j] = 0.0;
+        attr_dy[at + j] = 0.0;
+    }
+    at + GRADIENT_SLOTS
+}
+
+/// What a triangle's planes are computed from: its vertices in the winding of the set-up
+/// (interior on the positive side of every edge), their fixed-point coordinates, and the
+/// basis of the gradients. [`RasterTri::set`] and [`crate::traverse::Planes::set`] both go
+/// through it, so that the by-pixel pass evaluates the planes the traversal would.
+pub(crate) struct PlaneBasis<'a> {
+    /// The vertices, reordered.
+    pub p: [ScreenPos; 3],
+    /// Their attributes, reordered alike.
+    pub attrs: [&'a [f32]; 3],
+    /// Their fixed-point coordinates.
+    pub f: [(i64, i64); 3],
+    /// The first vertex in pixels: where each plane is anchored.
+    pub origin: (f64, f64),
+    /// The edges from the first vertex to the others, in pixels.
+    d1: (f64, f64),
+    d2: (f64, f64),
+    /// The inverse of twice the area, in pixels.
+    inv_area: f64,
+}
+
+impl<'a> PlaneBasis<'a> {
+    /// The basis of the triangle `p` with vertex attributes `attrs`; `None` for no area.
+    #[inline(always)]
+    pub fn of(p: [ScreenPos; 3], attrs: [&'a [f32]; 3]) -> Option<PlaneBasis<'a>> {
+        let area = screen_area2(&p);
+        if area == 0 {
+            return None;
+        }
+        // Interior on the positive side of every edge.
+        let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };
+        let (p, attrs) = (order.map(|i| p[i]), order.map(|i| attrs[i]));
+        let f = p.map(|p| (i64::from(p.fx), i64::from(p.fy)));
+        // Plane gradients: A = A0 + gx (x - x0) + gy (y - y0) through the three vertices.
+        let xy = f.map(|(x, y)| (x as f64 * INV_ONE, y as f64 * INV_ONE));
+        Some(PlaneBasis {
+            p,
+            attrs,
+            f,
+            origin: xy[0],
+            d1: (xy[1].0 - xy[0].0, xy[1].1 - xy[0].1),
+            d2: (xy[2].0 - xy[0].0, xy[2].1 - xy[0].1),
+            inv_area: (SUBPIXEL_ONE * SUBPIXEL_ONE) as f64 / area.abs() as f64,
+        })
+    }
+
+    /// The plane through the values `a0`, `a1`, `a2` at the vertices: its value at the
+    /// origin, `d/dx` and `d/dy`.
+    #[inline(always)]
+    pub fn plane(&self, a0: f64, a1: f64, a2: f64) -> [f64; 3] {
+        let ((dx1, dy1), (dx2, dy2)) = (self.d1, self.d2);
+        let (d1, d2) = (a1 - a0, a2 - a0);
+        [
+            a0,
+            (d1 * dy2 - d2 * dy1) * self.inv_area,
+            (d2 * dx1 - d1 * dx2) * self.inv_area,
+        ]
+    }
+
+    /// The planes of attributes `0..n` into `[attr0, attr_dx, attr_dy]`, in f32, and zeros
+    /// up to the next whole vector ([`crate::coverage::lanes`]).
+    #[inline(always)]
+    pub fn attrs(&self, n: usize, out: [&mut Attrs; 3]) {
+        match n {
+            0 => {}
+            1..=4 => self.attr_lanes::<4>(n, out),
+            5..=8 => self.attr_lanes::<8>(n, out),
+            _ => self.attr_lanes::<MAX_ATTRS>(n, out),
+        }
+    }
+
+    /// [`PlaneBasis::attrs`] over `L` lanes: the vertices' attributes copied into arrays of
+    /// `L` first, so that the planes are computed as whole vectors rather than lane by lane.
+    #[inline(always)]
+    fn attr_lanes<const L: usize>(&self, n: usize, [attr0, attr_dx, attr_dy]: [&mut Attrs; 3]) {
+        let n = n.min(L);
+        let [a0, a1, a2] = self.attrs;
+        let (a0, a1, a2) = (padded::<L>(a0, n), padded::<L>(a1, n), padded::<L>(a2, n));
+        for k in 0..L {
+            let [a, gx, gy] = self.plane(a0[k] as f64, a1[k] as f64, a2[k] as f64);
+            // Past `n`, zeros (the plane of zeros can be -0).
+            let keep = |v: f64| if k < n { v as f32 } else { 0.0 };
+            attr0[k] = keep(a);
+            attr_dx[k] = keep(gx);
+            attr_dy[k] = keep(gy);
+        }
+    }
+
+    /// The plane of `1/w`: only with `perspective` and attributes to divide, else 1.
+    #[inline(always)]
+    pub fn inv_w(&self, n: usize, perspective: bool) -> [f64; 3] {
+        let p = &self.p;
+        if perspective && n > 0 {
+            self.plane(p[0].inv_w, p[1].inv_w, p[2].inv_w)
+        } else {
+            [1.0, 0.0, 0.0]
+        }
     }
 }
 

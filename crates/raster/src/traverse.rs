@@ -21,7 +21,7 @@ use crate::coverage::{
     BandTarget, Pass, depth_col_at, depth_row, depth_stored, for_each_span, lanes, pixel_drawn,
 };
 use crate::framebuffer::clamp_color_to;
-use crate::setup::RasterTri;
+use crate::setup::{PlaneBasis, RasterTri, ScreenPos, append_gradients};
 use crate::shader::{Shader, Varyings, interpolated};
 pub(crate) use crate::span::SpanShade;
 use crate::stepped::StepQueue;
@@ -265,7 +265,7 @@ pub struct Planes {
 
 impl Planes {
     /// The planes of `t`.
-    #[inline]
+    #[cfg(test)]
     #[must_use]
     pub fn of(t: &RasterTri) -> Planes {
         Planes {
@@ -275,6 +275,38 @@ impl Planes {
             attr_dx: t.attr_dx,
             attr_dy: t.attr_dy,
         }
+    }
+
+    /// The planes of the triangle `p` with vertex attributes `attrs` (at least `n` each),
+    /// bit for bit those [`RasterTri::set`] computes, without its edges, depth and pixel box:
+    /// for the by-pixel pass, which knows the triangle's pixels already. `None` for no area.
+    #[inline(always)]
+    pub(crate) fn set(
+        p: [ScreenPos; 3],
+        attrs: [&[f32]; 3],
+        n: usize,
+        perspective: bool,
+    ) -> Option<Planes> {
+        let basis = PlaneBasis::of(p, attrs)?;
+        let mut planes = Planes {
+            origin: basis.origin,
+            inv_w: basis.inv_w(n, perspective),
+            attr0: [0.0; MAX_ATTRS],
+            attr_dx: [0.0; MAX_ATTRS],
+            attr_dy: [0.0; MAX_ATTRS],
+        };
+        basis.attrs(
+            n,
+            [&mut planes.attr0, &mut planes.attr_dx, &mut planes.attr_dy],
+        );
+        Some(planes)
+    }
+
+    /// [`RasterTri::add_gradients`] on planes set with `n` attributes.
+    #[inline(always)]
+    pub(crate) fn add_gradients(&mut self, n: usize, perspective: bool, k: usize) {
+        let planes = [&mut self.attr0, &mut self.attr_dx, &mut self.attr_dy];
+        append_gradients(planes, (self.inv_w, perspective && n > 0), n, k);
     }
 }
 

@@ -88,7 +88,8 @@ fn two_pass<'s, S: Shader>(
     let epoch = EPOCH.fetch_add(1, Ordering::Relaxed) << 32;
     let (ids, extents) = (&mut scratch.ids, &mut scratch.extents);
     let records = depth_pass(input, b, &mut target, ids, extents, epoch);
-    mark_owners(ids, extents, width, epoch, records, &mut scratch.owns);
+    let (rows, avx2) = ((&extents[..], width), input.wide.avx2);
+    mark_owners(ids, rows, epoch, records, &mut scratch.owns, avx2);
     // Only the depth pass writes outside the pixels it recorded (the shading passes write
     // where it did).
     for (d, e) in dirty.iter_mut().zip(scratch.extents.iter()) {
@@ -139,6 +140,18 @@ fn by_pixel_pass<S: Shader>(
         slot,
         planes,
     } = scratch;
+    #[cfg(target_arch = "x86_64")]
+    let traced = match input.wide.avx2 {
+        Some(avx2) => avx2.run(PlanesRun {
+            input,
+            b,
+            owns,
+            slot,
+            planes,
+        }),
+        None => visible_planes(input, b, owns, slot, planes),
+    };
+    #[cfg(not(target_arch = "x86_64"))]
     let traced = visible_planes(input, b, owns, slot, planes);
     let pass = ByPixel {
         slot,
@@ -302,42 +315,121 @@ fn depth_loop<S: Shader, R: RowLanes>(
 /// it left inside `extents` (rows `width` pixels wide). Only those records are visible: a
 /// triangle nearest somewhere when drawn is often covered later by a nearer one (about half
 /// of them in S1).
+///
+/// A triangle's pixels lie side by side along a row, so only an id that differs from the one
+/// before it in memory is marked. That one may lie outside every extent (the end of the row
+/// above, or a column the band did not write): then it was left by an earlier band, below
+/// the epoch, and differs from every id of this band. So each owner is marked at its first
+/// pixel at least, and four ids are compared at a time where the CPU has AVX2.
 fn mark_owners(
     ids: &[u64],
-    extents: &[(u32, u32)],
-    width: usize,
+    (extents, width): (&[(u32, u32)], usize),
     epoch: u64,
     records: usize,
     owns: &mut Vec<bool>,
+    avx2: Option<crate::simd::Avx2>,
 ) {
     owns.clear();
     owns.resize(records, false);
     // A slice, not the vector: its pointer and length stay in registers across the stores.
     let owns = owns.as_mut_slice();
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx2) = avx2 {
+        return avx2.run(MarkRun {
+            ids,
+            extents,
+            width,
+            epoch,
+            owns,
+        });
+    }
+    let _ = avx2;
+    mark_rows((ids, extents, width), owns, |ids, i, owns| {
+        for i in i {
+            if ids.get(i) != i.checked_sub(1).and_then(|j| ids.get(j)) {
+                mark(owns, ids[i], epoch);
+            }
+        }
+    });
+}
+
+/// Runs `span` over the band pixels `[lo, hi)` of each row of `extents`.
+#[inline(always)]
+fn mark_rows<F>(
+    (ids, extents, width): (&[u64], &[(u32, u32)], usize),
+    owns: &mut [bool],
+    mut span: F,
+) where
+    F: FnMut(&[u64], std::ops::Range<usize>, &mut [bool]),
+{
     for (row, &(lo, hi)) in extents.iter().enumerate() {
         let (lo, hi) = (
             row * width + lo as usize,
             row * width + (hi as usize).min(width),
         );
-        // A triangle's pixels lie side by side along a row: an id equal to the one before
-        // it is already marked.
-        let mut last = u64::MAX;
-        for &id in ids.get(lo..hi).unwrap_or(&[]) {
-            if id == last {
-                continue;
-            }
-            last = id;
-            // Ids below the epoch were left by earlier bands.
-            if let Some(o) = id.checked_sub(epoch).and_then(|k| owns.get_mut(k as usize)) {
-                *o = true;
-            }
+        if lo < hi && hi <= ids.len() {
+            span(&ids[..hi], lo..hi, owns);
         }
+    }
+}
+
+/// Marks the record whose id is `id`, if it is one of this band's (ids below the epoch were
+/// left by earlier bands).
+#[inline(always)]
+fn mark(owns: &mut [bool], id: u64, epoch: u64) {
+    if let Some(o) = id.checked_sub(epoch).and_then(|k| owns.get_mut(k as usize)) {
+        *o = true;
+    }
+}
+
+/// [`mark_owners`]' loop as one AVX2 task.
+#[cfg(target_arch = "x86_64")]
+struct MarkRun<'a> {
+    ids: &'a [u64],
+    extents: &'a [(u32, u32)],
+    width: usize,
+    epoch: u64,
+    owns: &'a mut [bool],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl phosphor_lighting::Avx2Task for MarkRun<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self, avx2: phosphor_lighting::Avx2) {
+        let (v, epoch) = (avx2.v3(), self.epoch);
+        let rows = (self.ids, self.extents, self.width);
+        mark_rows(rows, self.owns, |ids, span, owns| {
+            let mut i = span.start;
+            if i == 0 {
+                mark(owns, ids[0], epoch);
+                i = 1;
+            }
+            // Ids `i - 1 .. i + 4`: four compared with the four before them.
+            while let Some(w) = ids.get(i - 1..i + 4) {
+                let prev: [u64; 4] = std::array::from_fn(|j| w[j]);
+                let cur: [u64; 4] = std::array::from_fn(|j| w[j + 1]);
+                let same = v.avx2._mm256_cmpeq_epi64(pulp::cast(cur), pulp::cast(prev));
+                let mut changed = !(v.avx._mm256_movemask_pd(pulp::cast(same)) as u32) & 0xf;
+                while changed != 0 {
+                    mark(owns, cur[changed.trailing_zeros() as usize], epoch);
+                    changed &= changed - 1;
+                }
+                i += 4;
+            }
+            for i in i..span.end {
+                if ids[i] != ids[i - 1] {
+                    mark(owns, ids[i], epoch);
+                }
+            }
+        });
     }
 }
 
 /// The attribute planes of band `b`'s records that own a pixel and are shaded by pixel:
 /// `slot[k]` is record `k`'s index in `planes`, or `u32::MAX`. Returns whether some owner is
 /// not shaded by pixel (and needs [`visible_pass`]).
+#[inline(always)]
 fn visible_planes<S: Shader>(
     input: &BandInput<S>,
     b: usize,
@@ -346,7 +438,6 @@ fn visible_planes<S: Shader>(
     planes: &mut Vec<Planes>,
 ) -> bool {
     let n = S::VARYINGS;
-    let mut t = RasterTri::empty();
     slot.clear();
     planes.clear();
     let (mut k, mut traced, mut sink) = (0, false, 0);
@@ -359,26 +450,45 @@ fn visible_planes<S: Shader>(
             let by_pixel = owner && by_pixel(input, c, r);
             traced |= owner && !by_pixel;
             // Its pixels are known: the planes alone.
-            let visible = by_pixel
-                && input
-                    .vertices_of(r, c, n)
-                    .is_some_and(|(p, a)| t.set_planes(p, a, n, input.perspective));
-            slot.push(if visible {
+            let set = by_pixel
+                .then(|| input.vertices_of(r, c, n))
+                .flatten()
+                .and_then(|(p, a)| Planes::set(p, a, n, input.perspective));
+            slot.push(if set.is_some() {
                 planes.len() as u32
             } else {
                 u32::MAX
             });
-            if visible {
+            if let Some(mut p) = set {
                 if let Some(k) = S::GRADIENTS {
-                    t.add_gradients(k);
+                    p.add_gradients(n, input.perspective, k);
                 }
-                planes.push(Planes::of(&t));
+                planes.push(p);
             }
             k += 1;
         }
     }
     std::hint::black_box(sink);
     traced
+}
+
+/// [`visible_planes`] as one AVX2 task: the planes' f64 arithmetic four lanes wide.
+#[cfg(target_arch = "x86_64")]
+struct PlanesRun<'p, 'a, S: Shader> {
+    input: &'p BandInput<'a, S>,
+    b: usize,
+    owns: &'p [bool],
+    slot: &'p mut Vec<u32>,
+    planes: &'p mut Vec<Planes>,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl<S: Shader> phosphor_lighting::Avx2Task for PlanesRun<'_, '_, S> {
+    type Output = bool;
+    #[inline(always)]
+    fn run(self, _: phosphor_lighting::Avx2) -> bool {
+        visible_planes(self.input, self.b, self.owns, self.slot, self.planes)
+    }
 }
 
 /// The visible pass of band `b`: the records that own a pixel and were not shaded by pixel

@@ -1,5 +1,6 @@
 //! Unit tests of `setup.rs`: row rounding, edge functions and planes.
 use super::*;
+use crate::traverse::Planes;
 
 #[test]
 fn first_row_follows_ceil_y_minus_half() {
@@ -43,18 +44,25 @@ fn planes_only_set_up_matches_the_full_one_bit_for_bit() {
     // Both windings (the set-up reorders the vertices of one of them).
     for order in [[0, 1, 2], [0, 2, 1]] {
         let (p, a) = (order.map(|i| p[i]), order.map(|i| &a[i][..]));
-        let (mut full, mut planes) = (RasterTri::empty(), RasterTri::empty());
-        assert!(full.set(p, a, 4, true) && planes.set_planes(p, a, 4, true));
-        let bits = |t: &RasterTri| {
+        let mut full = RasterTri::empty();
+        assert!(full.set(p, a, 4, true));
+        let planes = Planes::set(p, a, 4, true).expect("a triangle with area");
+        let bits = |t: &Planes| {
             let mut v: Vec<u64> = vec![t.origin.0.to_bits(), t.origin.1.to_bits()];
-            v.extend(t.depth.iter().chain(&t.inv_w).map(|x| x.to_bits()));
+            v.extend(t.inv_w.iter().map(|x| x.to_bits()));
             let attrs = t.attr0.iter().chain(&t.attr_dx).chain(&t.attr_dy);
             v.extend(attrs.map(|x| u64::from(x.to_bits())));
             v
         };
-        assert_eq!(bits(&full), bits(&planes), "{order:?}");
+        assert_eq!(bits(&Planes::of(&full)), bits(&planes), "{order:?}");
         assert!(full.attr_dx[0] != 0.0 && full.inv_w[1] != 0.0);
+        // The gradient slots alike.
+        let (mut with, mut planes) = (full, planes);
+        with.add_gradients(1);
+        planes.add_gradients(4, true, 1);
+        assert_eq!(bits(&Planes::of(&with)), bits(&planes), "{order:?}");
+        assert!(with.n > 4 && planes.attr0[4] == full.attr_dx[1]);
     }
     let line = [p[0], p[0], p[1]];
-    assert!(!RasterTri::empty().set_planes(line, [&[]; 3], 0, true));
+    assert!(Planes::set(line, [&[]; 3], 0, true).is_none());
 }
