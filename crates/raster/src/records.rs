@@ -91,6 +91,21 @@ impl<S: Shader> BandInput<'_, S> {
         set
     }
 
+    /// [`BandInput::setup`] out of line, for the depth pass that draws most records from lanes
+    /// and sets up only the few large ones alone: inlined there, this set-up took registers
+    /// from the lanes' rows (1.6 M instructions in a 1080p S1 phong frame). The one-pass
+    /// loop keeps it inlined: out of line cost it 0.37 M.
+    #[inline(never)]
+    pub(crate) fn setup_apart(
+        &self,
+        t: &mut RasterTri,
+        c: &Binned<S::Stepped>,
+        r: &TriRec,
+        n: usize,
+    ) -> bool {
+        self.setup(t, c, r, n)
+    }
+
     /// Reads the first vertex data set-up will need of record `r` (one [`AHEAD`] places on),
     /// so that the cache misses of fetching it (vertices are scattered over the mesh) overlap
     /// the work on the records before it: a prefetch in safe code. The value is folded into a

@@ -307,7 +307,7 @@ impl RasterTri {
         }
         (self.x0, self.x1) = row_range([f[0].0, f[1].0, f[2].0]);
         (self.y0, self.y1) = row_range([f[0].1, f[1].1, f[2].1]);
-        basis.attrs(n, [&mut self.attr0, &mut self.attr_dx, &mut self.attr_dy]);
+        basis.attrs_each(n, [&mut self.attr0, &mut self.attr_dx, &mut self.attr_dy]);
         self.origin = basis.origin;
         let p = &basis.p;
         self.depth = basis.plane(p[0].depth, p[1].depth, p[2].depth);
@@ -445,8 +445,23 @@ impl<'a> PlaneBasis<'a> {
         ]
     }
 
+    /// The planes of attributes `0..n` into `[attr0, attr_dx, attr_dy]`, in f32, one by one:
+    /// for a set-up inlined into a loop that needs its registers (the traversal's, where
+    /// [`PlaneBasis::attrs`] cost 16 more instructions per triangle with three attributes).
+    #[inline(always)]
+    pub fn attrs_each(&self, n: usize, [attr0, attr_dx, attr_dy]: [&mut Attrs; 3]) {
+        let [a0, a1, a2] = self.attrs;
+        for k in 0..n {
+            let [a, gx, gy] = self.plane(a0[k] as f64, a1[k] as f64, a2[k] as f64);
+            attr0[k] = a as f32;
+            attr_dx[k] = gx as f32;
+            attr_dy[k] = gy as f32;
+        }
+    }
+
     /// The planes of attributes `0..n` into `[attr0, attr_dx, attr_dy]`, in f32, and zeros
-    /// up to the next whole vector ([`crate::coverage::lanes`]).
+    /// (of either sign) up to the next whole vector ([`crate::coverage::lanes`]): the same
+    /// bits as [`PlaneBasis::attrs_each`] in the first `n`, computed as whole vectors.
     #[inline(always)]
     pub fn attrs(&self, n: usize, out: [&mut Attrs; 3]) {
         match n {
@@ -464,13 +479,13 @@ impl<'a> PlaneBasis<'a> {
         let n = n.min(L);
         let [a0, a1, a2] = self.attrs;
         let (a0, a1, a2) = (padded::<L>(a0, n), padded::<L>(a1, n), padded::<L>(a2, n));
+        // Past `n`, the plane of zeros: zeros, some of them -0. Selecting +0 there instead
+        // made LLVM write the lanes with masked stores, which AMD's cores run slowly.
         for k in 0..L {
             let [a, gx, gy] = self.plane(a0[k] as f64, a1[k] as f64, a2[k] as f64);
-            // Past `n`, zeros (the plane of zeros can be -0).
-            let keep = |v: f64| if k < n { v as f32 } else { 0.0 };
-            attr0[k] = keep(a);
-            attr_dx[k] = keep(gx);
-            attr_dy[k] = keep(gy);
+            attr0[k] = a as f32;
+            attr_dx[k] = gx as f32;
+            attr_dy[k] = gy as f32;
         }
     }
 

@@ -298,7 +298,7 @@ fn depth_loop<S: Shader, R: RowLanes>(
                     }
                     Kind::Empty => {}
                     Kind::Other => {
-                        if input.setup(&mut t, c, r, 0) {
+                        if input.setup_apart(&mut t, c, r, 0) {
                             depth_only(&t, target, ids, extents, seq);
                         }
                     }
