@@ -49,10 +49,19 @@ pub(crate) struct Binned<T> {
 impl<T> Binned<T> {
     /// Groups `staged` (record, first band, last band) by band, keeping their order.
     fn new(staged: &[(TriRec, u32, u32)], bands: usize, data: TriData<T>) -> Binned<T> {
+        // Most triangles lie in one band: that case takes no loop.
         let mut starts = vec![0u32; bands + 1];
         for &(_, b0, b1) in staged {
+            if b0 == b1 {
+                if let Some(c) = starts.get_mut(b0 as usize + 1) {
+                    *c += 1;
+                }
+                continue;
+            }
             for b in b0..=b1 {
-                starts[b as usize + 1] += 1;
+                if let Some(c) = starts.get_mut(b as usize + 1) {
+                    *c += 1;
+                }
             }
         }
         for b in 0..bands {
@@ -60,10 +69,21 @@ impl<T> Binned<T> {
         }
         let mut at: Vec<u32> = starts[..bands].to_vec();
         let mut recs = vec![TriRec::default(); starts[bands] as usize];
+        let mut put = |b: u32, rec: TriRec| {
+            if let Some(a) = at.get_mut(b as usize) {
+                if let Some(r) = recs.get_mut(*a as usize) {
+                    *r = rec;
+                }
+                *a += 1;
+            }
+        };
         for &(rec, b0, b1) in staged {
+            if b0 == b1 {
+                put(b0, rec);
+                continue;
+            }
             for b in b0..=b1 {
-                recs[at[b as usize] as usize] = rec;
-                at[b as usize] += 1;
+                put(b, rec);
             }
         }
         Binned {

@@ -449,14 +449,8 @@ impl<'a> PlaneBasis<'a> {
     /// for a set-up inlined into a loop that needs its registers (the traversal's, where
     /// [`PlaneBasis::attrs`] cost 16 more instructions per triangle with three attributes).
     #[inline(always)]
-    pub fn attrs_each(&self, n: usize, [attr0, attr_dx, attr_dy]: [&mut Attrs; 3]) {
-        let [a0, a1, a2] = self.attrs;
-        for k in 0..n {
-            let [a, gx, gy] = self.plane(a0[k] as f64, a1[k] as f64, a2[k] as f64);
-            attr0[k] = a as f32;
-            attr_dx[k] = gx as f32;
-            attr_dy[k] = gy as f32;
-        }
+    pub fn attrs_each(&self, n: usize, out: [&mut Attrs; 3]) {
+        self.planes_into(self.attrs, n, out);
     }
 
     /// The planes of attributes `0..n` into `[attr0, attr_dx, attr_dy]`, in f32, and zeros
@@ -475,13 +469,25 @@ impl<'a> PlaneBasis<'a> {
     /// [`PlaneBasis::attrs`] over `L` lanes: the vertices' attributes copied into arrays of
     /// `L` first, so that the planes are computed as whole vectors rather than lane by lane.
     #[inline(always)]
-    fn attr_lanes<const L: usize>(&self, n: usize, [attr0, attr_dx, attr_dy]: [&mut Attrs; 3]) {
+    fn attr_lanes<const L: usize>(&self, n: usize, out: [&mut Attrs; 3]) {
         let n = n.min(L);
         let [a0, a1, a2] = self.attrs;
         let (a0, a1, a2) = (padded::<L>(a0, n), padded::<L>(a1, n), padded::<L>(a2, n));
         // Past `n`, the plane of zeros: zeros, some of them -0. Selecting +0 there instead
         // made LLVM write the lanes with masked stores, which AMD's cores run slowly.
-        for k in 0..L {
+        self.planes_into([&a0, &a1, &a2], L, out);
+    }
+
+    /// The planes of the values `a0[k]`, `a1[k]`, `a2[k]` at the vertices for `k < n`, into
+    /// `[attr0, attr_dx, attr_dy]` in f32.
+    #[inline(always)]
+    fn planes_into(
+        &self,
+        [a0, a1, a2]: [&[f32]; 3],
+        n: usize,
+        [attr0, attr_dx, attr_dy]: [&mut Attrs; 3],
+    ) {
+        for k in 0..n {
             let [a, gx, gy] = self.plane(a0[k] as f64, a1[k] as f64, a2[k] as f64);
             attr0[k] = a as f32;
             attr_dx[k] = gx as f32;

@@ -115,7 +115,7 @@ pub(crate) fn vertex_positions(
     view: &Viewport,
     (threads, wide, varyings): (usize, Wide, bool),
 ) -> DrawVertices {
-    let clip = transform(mesh, model, vp, threads);
+    let clip = transform(mesh, model, vp, (threads, wide));
     let mut pos = vec![ScreenPos::NONE; clip.len()];
     let mut scale = vec![0.0; if varyings { clip.len() } else { 0 }];
     for_each_chunk_pair(
@@ -331,38 +331,30 @@ impl<S: Shader> phosphor_lighting::Avx2Task for Chunk<'_, S> {
 
 /// World position, normal (inverse transpose), uv, tangent and colour per vertex, with the
 /// clip-space position.
-fn transform(mesh: &MeshView, model: Mat4, vp: Mat4, threads: usize) -> Vec<(Vec4, VertexIn)> {
+fn transform(
+    mesh: &MeshView,
+    model: Mat4,
+    vp: Mat4,
+    (threads, wide): (usize, Wide),
+) -> Vec<(Vec4, VertexIn)> {
     let m3 = Mat3::from_mat4(model);
     let normal_matrix = {
         let nm = m3.inverse().transpose();
         if nm.is_finite() { nm } else { m3 }
     };
     let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
-    // Position and normal (zero where the mesh has none, as in a positions-only draw), with
-    // the other inputs at their defaults.
-    let surface = |i: usize| {
-        let world = model.transform_point3(mesh.positions[i]);
-        let normal = mesh
-            .normals
-            .get(i)
-            .map_or(Vec3::ZERO, |n| (normal_matrix * *n).normalize_or_zero());
-        (
-            vp * world.extend(1.0),
-            VertexIn {
-                world,
-                normal,
-                uv: Vec2::ZERO,
-                tangent: Vec4::ZERO,
-                color: Vec3::ONE,
-            },
-        )
+    let placement = Placement {
+        model,
+        normal: normal_matrix,
+        vp,
     };
-    if mesh.uvs.is_none() && mesh.tangents.is_none() && mesh.colors.is_none() {
-        // Most meshes: no per-vertex tests for the arrays that are absent.
-        return map_indices(threads, mesh.positions.len(), 4096, surface);
+    let plain = mesh.uvs.is_none() && mesh.tangents.is_none() && mesh.colors.is_none();
+    if plain && (mesh.normals.is_empty() || mesh.normals.len() >= mesh.positions.len()) {
+        // Most meshes: positions and normals only, in lanes.
+        return surfaces(mesh, &placement, (threads, wide));
     }
     map_indices(threads, mesh.positions.len(), 4096, |i| {
-        let (clip, mut v) = surface(i);
+        let (clip, mut v) = placement.surface(mesh, i);
         if let Some(uv) = mesh.uvs.and_then(|u| u.get(i).copied()) {
             v.uv = uv;
         }
@@ -374,6 +366,238 @@ fn transform(mesh: &MeshView, model: Mat4, vp: Mat4, threads: usize) -> Vec<(Vec
         }
         (clip, v)
     })
+}
+
+/// Where a draw's vertices go: model to world, the normals' matrix (the inverse transpose),
+/// and the view-projection.
+struct Placement {
+    model: Mat4,
+    normal: Mat3,
+    vp: Mat4,
+}
+
+impl Placement {
+    /// Vertex `i`'s clip-space position, world position and normal (zero where the mesh has
+    /// none, as in a positions-only draw), the other inputs at their defaults: the reference
+    /// [`Surfaces`] computes in lanes, and the vertex of meshes with more inputs.
+    #[inline(always)]
+    fn surface(&self, mesh: &MeshView, i: usize) -> (Vec4, VertexIn) {
+        let world = self.model.transform_point3(mesh.positions[i]);
+        let normal = mesh
+            .normals
+            .get(i)
+            .map_or(Vec3::ZERO, |n| (self.normal * *n).normalize_or_zero());
+        (
+            self.vp * world.extend(1.0),
+            VertexIn {
+                world,
+                normal,
+                ..VertexIn::PLAIN
+            },
+        )
+    }
+}
+
+impl VertexIn {
+    /// The inputs a mesh without uvs, tangents or colours gives every vertex besides its
+    /// position and normal.
+    const PLAIN: VertexIn = VertexIn {
+        world: Vec3::ZERO,
+        normal: Vec3::ZERO,
+        uv: Vec2::ZERO,
+        tangent: Vec4::ZERO,
+        color: Vec3::ONE,
+    };
+}
+
+/// [`Placement::surface`] of every vertex of a mesh with positions and normals only (`normals`
+/// empty or as long as `positions`), in parallel chunks, eight vertices at a time with AVX2,
+/// else four: the same bits, each lane computed with the operations of glam's
+/// `transform_point3`, `Mat3 * Vec3`, `normalize_or_zero` and `Mat4 * Vec4`, in their order.
+fn surfaces(
+    mesh: &MeshView,
+    placement: &Placement,
+    (threads, wide): (usize, Wide),
+) -> Vec<(Vec4, VertexIn)> {
+    let len = mesh.positions.len();
+    let mut out = vec![(Vec4::ZERO, VertexIn::PLAIN); len];
+    for_each_chunk_pair(
+        threads,
+        &mut out,
+        &mut [] as &mut [u8],
+        (4096, 0),
+        |first, out, _| {
+            let range = first..first + out.len();
+            let (Some(positions), normals) =
+                (mesh.positions.get(range.clone()), mesh.normals.get(range))
+            else {
+                return;
+            };
+            let chunk = Surfaces {
+                placement,
+                positions,
+                normals,
+                out,
+            };
+            #[cfg(target_arch = "x86_64")]
+            if let Some(avx2) = wide.avx2 {
+                avx2.run(chunk);
+                return;
+            }
+            chunk.lanes(phosphor_lighting::f32x4::ZERO);
+        },
+    );
+    out
+}
+
+/// One parallel chunk of [`surfaces`].
+struct Surfaces<'a> {
+    placement: &'a Placement,
+    positions: &'a [Vec3],
+    /// `None` for a mesh without normals.
+    normals: Option<&'a [Vec3]>,
+    out: &'a mut [(Vec4, VertexIn)],
+}
+
+impl Surfaces<'_> {
+    /// The chunk's vertices, `L::N` per step.
+    #[inline(always)]
+    fn lanes<L: Lanes>(self, like: L) {
+        let s = |x: f32| like.splat(x);
+        // Rows of the matrices: component `c` of a product is row `c` dotted with the vector.
+        let (m, nm, vp) = (
+            self.placement.model,
+            self.placement.normal,
+            self.placement.vp,
+        );
+        let (m0, m1, m2) = (m.row(0), m.row(1), m.row(2));
+        let (n0, n1, n2) = (nm.row(0), nm.row(1), nm.row(2));
+        let (v0, v1, v2, v3) = (vp.row(0), vp.row(1), vp.row(2), vp.row(3));
+        let zero = s(0.0);
+        for (g, out) in self.out.chunks_mut(L::N).enumerate() {
+            let range = g * L::N..g * L::N + out.len();
+            let Some(p) = self.positions.get(range.clone()) else {
+                return;
+            };
+            let p = columns3(like, p);
+            // transform_point3: ((x X + y Y) + z Z) + W per component.
+            let w = [
+                sum3(like, m0.truncate(), p) + s(m0.w),
+                sum3(like, m1.truncate(), p) + s(m1.w),
+                sum3(like, m2.truncate(), p) + s(m2.w),
+            ];
+            // Mat4 * (world, 1): the same sums, W times 1 being W.
+            let clip = [
+                sum3(like, v0.truncate(), w) + s(v0.w),
+                sum3(like, v1.truncate(), w) + s(v1.w),
+                sum3(like, v2.truncate(), w) + s(v2.w),
+                sum3(like, v3.truncate(), w) + s(v3.w),
+            ];
+            let normal = match self.normals.and_then(|n| n.get(range)) {
+                Some(n) => {
+                    let n = columns3(like, n);
+                    // Mat3 * Vec3, then normalize_or_zero: the reciprocal of the length (the
+                    // dot product summed x, y, z), used when finite and above zero (not NaN).
+                    let t = [sum3(like, n0, n), sum3(like, n1, n), sum3(like, n2, n)];
+                    let rcp = s(1.0) / (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
+                    let ok = rcp.cmp_ge(s(f32::from_bits(1))) & rcp.cmp_le(s(f32::MAX));
+                    [
+                        ok.blend(t[0] * rcp, zero),
+                        ok.blend(t[1] * rcp, zero),
+                        ok.blend(t[2] * rcp, zero),
+                    ]
+                }
+                None => [zero; 3],
+            };
+            if let (8, Some(out)) = (L::N, out.first_chunk_mut::<8>()) {
+                // Eight whole vertices: the first eight floats of each (clip, world and the
+                // normal's x, in the tuple's order) are the columns of eight rows, one
+                // transpose rather than a move per float.
+                let rows = [
+                    clip[0].to_lanes(),
+                    clip[1].to_lanes(),
+                    clip[2].to_lanes(),
+                    clip[3].to_lanes(),
+                    w[0].to_lanes(),
+                    w[1].to_lanes(),
+                    w[2].to_lanes(),
+                    normal[0].to_lanes(),
+                ];
+                let cols = like.columns(&rows);
+                let (ny, nz) = (normal[1].to_lanes(), normal[2].to_lanes());
+                for j in 0..8 {
+                    let a = cols[j].to_lanes();
+                    out[j] = (
+                        Vec4::new(a[0], a[1], a[2], a[3]),
+                        VertexIn {
+                            world: Vec3::new(a[4], a[5], a[6]),
+                            normal: Vec3::new(a[7], ny[j], nz[j]),
+                            ..VertexIn::PLAIN
+                        },
+                    );
+                }
+                continue;
+            }
+            let [wx, wy, wz] = [w[0].to_lanes(), w[1].to_lanes(), w[2].to_lanes()];
+            let [nx, ny, nz] = [
+                normal[0].to_lanes(),
+                normal[1].to_lanes(),
+                normal[2].to_lanes(),
+            ];
+            let [cx, cy, cz, cw] = [
+                clip[0].to_lanes(),
+                clip[1].to_lanes(),
+                clip[2].to_lanes(),
+                clip[3].to_lanes(),
+            ];
+            let k = out.len().min(8);
+            for j in 0..k {
+                out[j] = (
+                    Vec4::new(cx[j], cy[j], cz[j], cw[j]),
+                    VertexIn {
+                        world: Vec3::new(wx[j], wy[j], wz[j]),
+                        normal: Vec3::new(nx[j], ny[j], nz[j]),
+                        ..VertexIn::PLAIN
+                    },
+                );
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl phosphor_lighting::Avx2Task for Surfaces<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self, s: phosphor_lighting::Avx2) {
+        self.lanes(s.splat(0.0));
+    }
+}
+
+/// The `x`, `y` and `z` of `v` (one to `L::N` vectors, the last repeated) as lanes.
+#[inline(always)]
+fn columns3<L: Lanes>(like: L, v: &[Vec3]) -> [L; 3] {
+    let lanes = |a: &[Vec3; 8]| {
+        [
+            like.with_lanes(std::array::from_fn(|j| a[j].x)),
+            like.with_lanes(std::array::from_fn(|j| a[j].y)),
+            like.with_lanes(std::array::from_fn(|j| a[j].z)),
+        ]
+    };
+    // A whole group of eight, read in place without a bound per lane.
+    if let Some(a) = v.first_chunk::<8>() {
+        return lanes(a);
+    }
+    let last = v.len().saturating_sub(1);
+    lanes(&std::array::from_fn(|j| {
+        v.get(j.min(last)).copied().unwrap_or(Vec3::ZERO)
+    }))
+}
+
+/// `(k.x x + k.y y) + k.z z`, summed in glam's order.
+#[inline(always)]
+fn sum3<L: Lanes>(like: L, k: Vec3, [x, y, z]: [L; 3]) -> L {
+    like.splat(k.x) * x + like.splat(k.y) * y + like.splat(k.z) * z
 }
 
 #[cfg(test)]
@@ -447,6 +671,70 @@ mod tests {
             assert!(compared > 40, "only {compared} marked vertices on screen");
             assert!(skipped > 200, "only {skipped} vertices on screen skipped");
         }
+    }
+
+    /// The vertices [`surfaces`] computes in lanes are the bits of [`Placement::surface`], at
+    /// both widths and in a partial last group: ordinary normals; zero, underflowing,
+    /// overflowing and non-finite ones (all zero); a tiny one that still normalizes; and a
+    /// mesh without normals.
+    #[test]
+    fn surfaces_in_lanes_are_the_bits_of_the_scalar_vertex() {
+        let positions: Vec<Vec3> = (0..37)
+            .map(|i| {
+                let t = i as f32 * 0.37;
+                Vec3::new(t.sin() * 3.1, t.cos() * 1.7 - 0.2, (t * 1.3).sin() + 0.5)
+            })
+            .collect();
+        let mut normals: Vec<Vec3> = positions
+            .iter()
+            .map(|p| *p * 0.9 + Vec3::new(0.1, -0.3, 0.2))
+            .collect();
+        normals[3] = Vec3::ZERO;
+        normals[4] = Vec3::splat(1e-30);
+        normals[5] = Vec3::splat(1e30);
+        normals[6] = Vec3::new(f32::NAN, 0.0, 1.0);
+        normals[7] = Vec3::new(f32::INFINITY, 0.0, 0.0);
+        normals[8] = Vec3::new(1e-20, 0.0, 0.0);
+        let model = Mat4::from_scale_rotation_translation(
+            Vec3::new(1.5, 0.5, 2.0),
+            glam::Quat::from_rotation_y(0.7),
+            Vec3::new(0.3, -1.0, 2.0),
+        );
+        let placement = Placement {
+            model,
+            normal: Mat3::from_mat4(model).inverse().transpose(),
+            vp: Camera::s1().view_proj(16.0 / 9.0),
+        };
+        let bits = |(c, v): (Vec4, VertexIn)| {
+            let f = [c.to_array(), v.world.extend(0.0).to_array()];
+            let g = [v.normal.extend(0.0).to_array(), v.tangent.to_array()];
+            let h = [
+                v.uv.extend(0.0).extend(0.0).to_array(),
+                v.color.extend(0.0).to_array(),
+            ];
+            let all: Vec<f32> = [f, g, h].concat().concat();
+            all.into_iter().map(f32::to_bits).collect::<Vec<u32>>()
+        };
+        let mut normalized = 0;
+        for normals in [&normals[..], &[]] {
+            let mesh = MeshView::new(&positions, normals, &[]);
+            let scalar: Vec<_> = (0..positions.len())
+                .map(|i| bits(placement.surface(&mesh, i)))
+                .collect();
+            for simd in [SimdLevel::Baseline, SimdLevel::Auto] {
+                let wide = Wide { avx2: simd.token() };
+                let lanes: Vec<_> = surfaces(&mesh, &placement, (2, wide))
+                    .into_iter()
+                    .map(bits)
+                    .collect();
+                assert_eq!(lanes, scalar, "{simd:?}, {} normals", normals.len());
+            }
+            normalized += (0..positions.len())
+                .filter(|&i| placement.surface(&mesh, i).1.normal != Vec3::ZERO)
+                .count();
+        }
+        // Every normal but the five degenerate ones normalizes.
+        assert_eq!(normalized, positions.len() - 5);
     }
 
     /// With back faces culled, a closed sphere seen from outside shades the varyings of little
