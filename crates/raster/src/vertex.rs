@@ -240,7 +240,11 @@ impl Positions<'_> {
         for (g, group) in self.src.chunks(LANES).enumerate() {
             let base = g * LANES;
             let mut scale = [0.0f32; LANES];
-            let clip: [Vec4; LANES] = std::array::from_fn(|k| group[k.min(group.len() - 1)].0);
+            // A whole group is read without a bound per lane; a short one repeats its last.
+            let clip: [Vec4; LANES] = match group.first_chunk::<LANES>() {
+                Some(g) => std::array::from_fn(|k| g[k].0),
+                None => std::array::from_fn(|k| group[k.min(group.len() - 1)].0),
+            };
             let range = base..base + group.len();
             self.view.screen_pos_lanes(
                 &clip[..group.len()],

@@ -112,10 +112,17 @@ impl Viewport {
         if len == 0 {
             return false;
         }
-        // Lanes past `len` repeat the last vertex; their results are dropped.
-        let lane = |f: fn(&Vec4) -> f32| -> [f32; LANES] {
-            std::array::from_fn(|j| f(&pos[j.min(len - 1)]))
+        // Lanes past `len` repeat the last vertex; their results are dropped. A whole group
+        // is read in place, without a bound per lane.
+        let padded: [Vec4; LANES];
+        let all = match pos.first_chunk::<LANES>() {
+            Some(all) => all,
+            None => {
+                padded = std::array::from_fn(|j| pos[j.min(len - 1)]);
+                &padded
+            }
         };
+        let lane = |f: fn(&Vec4) -> f32| -> [f32; LANES] { std::array::from_fn(|j| f(&all[j])) };
         let (x, y, z, w) = (lane(|p| p.x), lane(|p| p.y), lane(|p| p.z), lane(|p| p.w));
         let (gx, gy) = self.guard;
         let (width, height) = (f64::from(self.width), f64::from(self.height));
