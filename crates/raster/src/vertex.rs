@@ -423,8 +423,10 @@ fn surfaces(
     placement: &Placement,
     (threads, wide): (usize, Wide),
 ) -> Vec<(Vec4, VertexIn)> {
-    let len = mesh.positions.len();
-    let mut out = vec![(Vec4::ZERO, VertexIn::PLAIN); len];
+    // The output's first pass is parallel too: a large mesh's vertices are tens of megabytes.
+    let mut out = map_indices(threads, mesh.positions.len(), 4096, |_| {
+        (Vec4::ZERO, VertexIn::PLAIN)
+    });
     for_each_chunk_pair(
         threads,
         &mut out,
