@@ -131,12 +131,7 @@ pub(crate) fn vertex_positions(
                 pos,
                 scale,
             };
-            #[cfg(target_arch = "x86_64")]
-            if let Some(avx2) = wide.avx2 {
-                avx2.run(chunk);
-                return;
-            }
-            chunk.project();
+            in_lanes(wide, chunk);
         },
     );
     DrawVertices {
@@ -213,15 +208,42 @@ pub(crate) fn vertex_varyings<S: Shader>(
                 used,
                 attrs,
             };
-            #[cfg(target_arch = "x86_64")]
-            if let Some(avx2) = wide.avx2 {
-                avx2.run(chunk);
-                return;
-            }
-            chunk.vary(phosphor_lighting::f32x4::ZERO);
+            in_lanes(wide, chunk);
         },
     );
     verts.attrs = attrs;
+}
+
+/// A parallel chunk of the vertex stage, written once over [`Lanes`].
+trait InLanes: Sized {
+    /// The chunk's work, `L::N` vertices per step.
+    fn lanes<L: Lanes>(self, like: L);
+}
+
+/// Runs `chunk` eight lanes wide inside an AVX2 function when the frame has the token, else
+/// four wide (SSE2): the same bits either way.
+#[inline(always)]
+#[cfg_attr(not(target_arch = "x86_64"), allow(unused_variables))]
+fn in_lanes<T: InLanes>(wide: Wide, chunk: T) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx2) = wide.avx2 {
+        avx2.run(Avx2Lanes(chunk));
+        return;
+    }
+    chunk.lanes(phosphor_lighting::f32x4::ZERO);
+}
+
+/// [`in_lanes`]' AVX2 task.
+#[cfg(target_arch = "x86_64")]
+struct Avx2Lanes<T>(T);
+
+#[cfg(target_arch = "x86_64")]
+impl<T: InLanes> phosphor_lighting::Avx2Task for Avx2Lanes<T> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self, s: phosphor_lighting::Avx2) {
+        self.0.lanes(s.splat(0.0));
+    }
 }
 
 /// One parallel chunk of [`vertex_positions`].
@@ -231,6 +253,15 @@ struct Positions<'a> {
     pos: &'a mut [ScreenPos],
     /// Empty for a shader without varyings.
     scale: &'a mut [f32],
+}
+
+impl InLanes for Positions<'_> {
+    /// The screen positions need no lane type of their own: an AVX2 build of this loop
+    /// vectorizes it.
+    #[inline(always)]
+    fn lanes<L: Lanes>(self, _: L) {
+        self.project();
+    }
 }
 
 impl Positions<'_> {
@@ -258,15 +289,6 @@ impl Positions<'_> {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-impl phosphor_lighting::Avx2Task for Positions<'_> {
-    type Output = ();
-    #[inline(always)]
-    fn run(self, _: phosphor_lighting::Avx2) {
-        self.project();
-    }
-}
-
 /// One parallel chunk of [`vertex_varyings`]: the vertices `first..` of the draw.
 struct Chunk<'a, S> {
     shader: &'a S,
@@ -275,6 +297,13 @@ struct Chunk<'a, S> {
     scale: &'a [f32],
     used: &'a Used,
     attrs: &'a mut [f32],
+}
+
+impl<S: Shader> InLanes for Chunk<'_, S> {
+    #[inline(always)]
+    fn lanes<L: Lanes>(self, like: L) {
+        self.vary(like);
+    }
 }
 
 impl<S: Shader> Chunk<'_, S> {
@@ -321,15 +350,6 @@ impl<S: Shader> Chunk<'_, S> {
                 }
             }
         }
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-impl<S: Shader> phosphor_lighting::Avx2Task for Chunk<'_, S> {
-    type Output = ();
-    #[inline(always)]
-    fn run(self, s: phosphor_lighting::Avx2) {
-        self.vary(s.splat(0.0));
     }
 }
 
@@ -445,12 +465,7 @@ fn surfaces(
                 normals,
                 out,
             };
-            #[cfg(target_arch = "x86_64")]
-            if let Some(avx2) = wide.avx2 {
-                avx2.run(chunk);
-                return;
-            }
-            chunk.lanes(phosphor_lighting::f32x4::ZERO);
+            in_lanes(wide, chunk);
         },
     );
     out
@@ -465,7 +480,7 @@ struct Surfaces<'a> {
     out: &'a mut [(Vec4, VertexIn)],
 }
 
-impl Surfaces<'_> {
+impl InLanes for Surfaces<'_> {
     /// The chunk's vertices, `L::N` per step.
     #[inline(always)]
     fn lanes<L: Lanes>(self, like: L) {
@@ -568,15 +583,6 @@ impl Surfaces<'_> {
                 );
             }
         }
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-impl phosphor_lighting::Avx2Task for Surfaces<'_> {
-    type Output = ();
-    #[inline(always)]
-    fn run(self, s: phosphor_lighting::Avx2) {
-        self.lanes(s.splat(0.0));
     }
 }
 
