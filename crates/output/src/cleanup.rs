@@ -54,6 +54,19 @@ impl Pending {
     }
 }
 
+impl Pending {
+    /// Removes the file now, with the list locked, and says if the removal failed.
+    pub(crate) fn remove(mut self) -> std::io::Result<()> {
+        let Some(temp) = self.temp.take() else {
+            return Ok(());
+        };
+        let mut list = pending();
+        let path = temp.to_path_buf();
+        list.retain(|p| *p != path);
+        temp.close()
+    }
+}
+
 impl Drop for Pending {
     fn drop(&mut self) {
         if let Some(temp) = self.temp.take() {

@@ -66,9 +66,12 @@ pub(crate) fn create(dir: &Path, name: &OsStr) -> std::io::Result<NamedTempFile>
 }
 
 /// Checks that a temporary file for `name` can be made in `dir` (the folder exists, is
-/// writable, is not `/proc`), by making one and removing it at once.
+/// writable, is not `/proc`), by making one and removing it at once. The probe is watched
+/// like any temporary file, so that a signal arriving while it exists removes it too.
 pub(crate) fn probe(dir: &Path, name: &OsStr) -> std::io::Result<()> {
-    create(dir, name)?.close()
+    let (file, pending) = crate::cleanup::Pending::create(|| create(dir, name))?;
+    drop(file);
+    pending.remove()
 }
 
 /// The process id in a temporary name of the pattern `.NAME.PID.XXXXXX.tmp`, if it is one.
