@@ -5,7 +5,7 @@
 //! stepped triangle), and recorded in every band it touches. The chunks are joined in order,
 //! so the records of a band and the picture do not depend on the thread count.
 
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use phosphor_lighting::Lanes;
 
 use crate::batch::Wide;
@@ -206,7 +206,7 @@ fn bin_chunk<S: Shader>(
         stepped: Vec::new(),
         extra: Vec::new(),
     };
-    let mut batch = Batch::new(input);
+    let mut batch = Batch::new(input, &verts.clip);
     let (mut drawn, mut fallbacks) = (0, 0);
     let mut stepped = |data: &mut TriData<S::Stepped>,
                        p: &[ScreenPos; 3],
@@ -248,7 +248,7 @@ fn bin_chunk<S: Shader>(
             };
             let tri = match S::FACE {
                 Face::Interpolated => 0,
-                Face::Constant => batch.queue(i.map(|i| &clip[i].1), &mut data.colors),
+                Face::Constant => batch.queue(*idx, &mut data.colors),
                 Face::Stepped => {
                     let corners = || {
                         std::array::from_fn(|k| {
@@ -301,7 +301,7 @@ fn bin_chunk<S: Shader>(
             let tri = match S::FACE {
                 Face::Interpolated => 0,
                 // The whole triangle's corners: the same plane.
-                Face::Constant => batch.queue(i.map(|i| &verts.clip[i].1), &mut data.colors),
+                Face::Constant => batch.queue(*idx, &mut data.colors),
                 Face::Stepped => {
                     let corners = || [a, b, c].map(|s| corner_of(s, persp));
                     stepped(&mut data, &p, &corners)
@@ -339,34 +339,30 @@ fn corner_of(s: &ScreenVertex, perspective: bool) -> ScreenCorner {
 }
 
 /// Triangles of a [`Face::Constant`] shader waiting for their colours, computed eight at a
-/// time with AVX2 (else four) by [`Shader::constant`]; they wait as references to their
-/// world vertices, not copies.
+/// time with AVX2 (else four) by [`Shader::constant`]; they wait as the indices of their
+/// vertices in `clip` (checked by the bin), and only what the shader reads is gathered.
 struct Batch<'a, 'v, S> {
     input: &'a BinInput<'a, S>,
-    queued: [[&'v VertexIn; 3]; 8],
+    clip: &'v [(Vec4, VertexIn)],
+    queued: [[u32; 3]; 8],
     len: usize,
     width: usize,
 }
 
 impl<'a, 'v, S: Shader> Batch<'a, 'v, S> {
-    fn new(input: &'a BinInput<'a, S>) -> Batch<'a, 'v, S> {
-        const NONE: VertexIn = VertexIn {
-            world: Vec3::ZERO,
-            normal: Vec3::ZERO,
-            uv: glam::Vec2::ZERO,
-            tangent: glam::Vec4::ZERO,
-            color: Vec3::ONE,
-        };
+    fn new(input: &'a BinInput<'a, S>, clip: &'v [(Vec4, VertexIn)]) -> Batch<'a, 'v, S> {
         Batch {
             input,
-            queued: [[&NONE; 3]; 8],
+            clip,
+            queued: [[0; 3]; 8],
             len: 0,
             width: if input.wide.avx2.is_some() { 8 } else { 4 },
         }
     }
 
-    /// Queues a triangle; returns the index its colour will have in `colors`.
-    fn queue(&mut self, v: [&'v VertexIn; 3], colors: &mut Vec<Vec3>) -> u32 {
+    /// Queues the triangle of vertices `v`; returns the index its colour will have in
+    /// `colors`.
+    fn queue(&mut self, v: [u32; 3], colors: &mut Vec<Vec3>) -> u32 {
         let at = (colors.len() + self.len) as u32;
         self.queued[self.len] = v;
         self.len += 1;
@@ -382,12 +378,16 @@ impl<'a, 'v, S: Shader> Batch<'a, 'v, S> {
         if len == 0 {
             return;
         }
-        // Lanes past `len` repeat the first triangle; their results are dropped.
-        let tris: [[&VertexIn; 3]; 8] =
-            std::array::from_fn(|k| self.queued[if k < len { k } else { 0 }]);
+        // Lanes past `len` repeat the first triangle; their results are dropped. A full
+        // batch is read in place.
+        let first = self.queued[0];
+        for q in self.queued.iter_mut().skip(len) {
+            *q = first;
+        }
         let task = Colors {
             shader: self.input.shader,
-            tris: &tris,
+            clip: self.clip,
+            tris: &self.queued,
         };
         #[cfg(target_arch = "x86_64")]
         if let Some(avx2) = self.input.wide.avx2 {
@@ -403,7 +403,8 @@ impl<'a, 'v, S: Shader> Batch<'a, 'v, S> {
 /// [`Shader::constant`] of up to eight triangles.
 struct Colors<'a, 'v, S> {
     shader: &'a S,
-    tris: &'a [[&'v VertexIn; 3]; 8],
+    clip: &'v [(Vec4, VertexIn)],
+    tris: &'a [[u32; 3]; 8],
 }
 
 impl<S: Shader> Colors<'_, '_, S> {
@@ -413,7 +414,8 @@ impl<S: Shader> Colors<'_, '_, S> {
         // not read is never gathered).
         macro_rules! corner {
             ($c:expr) => {{
-                let v: [&VertexIn; 8] = std::array::from_fn(|k| self.tris[k][$c]);
+                let v: [&VertexIn; 8] =
+                    std::array::from_fn(|k| &self.clip[self.tris[k][$c] as usize].1);
                 gather(like, &v[..L::N])
             }};
         }
