@@ -132,7 +132,11 @@ impl<const N: usize> Pending<usize, N> {
         color: &mut [Vec3],
     ) {
         let first = self.idx[0];
-        let side_by_side = (1..N).fold(self.len == N, |ok, i| ok & (self.idx[i] == first + i));
+        // A plain loop: `fold` over the range was left out of line, a call per group.
+        let mut side_by_side = self.len == N;
+        for i in 1..N {
+            side_by_side &= self.idx[i] == first + i;
+        }
         if side_by_side {
             if let Some(dst) = color.get_mut(first..first + N) {
                 dst.copy_from_slice(&shade(&self.attrs, N, self.ceiling));
