@@ -43,38 +43,30 @@ impl Pending {
     /// Renames the file to `target`. The list stays locked through the rename, so a signal
     /// either removes the temporary file before it, or finds it gone after.
     pub(crate) fn persist(mut self, target: &Path) -> std::io::Result<()> {
-        let Some(temp) = self.temp.take() else {
-            return Err(std::io::Error::other("temporary file already gone"));
-        };
-        let mut list = pending();
-        let path = temp.to_path_buf();
-        list.retain(|p| *p != path);
         // On failure the returned TempPath is dropped, which removes the file.
-        temp.persist(target).map_err(|e| e.error)
+        self.unlisted(|temp| temp.persist(target).map_err(|e| e.error))
+            .unwrap_or_else(|| Err(std::io::Error::other("temporary file already gone")))
     }
-}
 
-impl Pending {
     /// Removes the file now, with the list locked, and says if the removal failed.
     pub(crate) fn remove(mut self) -> std::io::Result<()> {
-        let Some(temp) = self.temp.take() else {
-            return Ok(());
-        };
+        self.unlisted(TempPath::close).unwrap_or(Ok(()))
+    }
+
+    /// Takes the file off the list and hands it to `act` with the list still locked, so
+    /// that no signal acts on it in between; `None` if it was already taken.
+    fn unlisted<R>(&mut self, act: impl FnOnce(TempPath) -> R) -> Option<R> {
+        let temp = self.temp.take()?;
         let mut list = pending();
         let path = temp.to_path_buf();
         list.retain(|p| *p != path);
-        temp.close()
+        Some(act(temp))
     }
 }
 
 impl Drop for Pending {
     fn drop(&mut self) {
-        if let Some(temp) = self.temp.take() {
-            let mut list = pending();
-            let path = temp.to_path_buf();
-            list.retain(|p| *p != path);
-            drop(temp); // removes the file
-        }
+        self.unlisted(drop); // dropping a TempPath removes the file
     }
 }
 

@@ -206,7 +206,7 @@ fn bin_chunk<S: Shader>(
         stepped: Vec::new(),
         extra: Vec::new(),
     };
-    let mut batch = Batch::new(input, &verts.clip);
+    let mut batch = Batch::new(input);
     let (mut drawn, mut fallbacks) = (0, 0);
     let mut stepped = |data: &mut TriData<S::Stepped>,
                        p: &[ScreenPos; 3],
@@ -340,20 +340,19 @@ fn corner_of(s: &ScreenVertex, perspective: bool) -> ScreenCorner {
 
 /// Triangles of a [`Face::Constant`] shader waiting for their colours, computed eight at a
 /// time with AVX2 (else four) by [`Shader::constant`]; they wait as the indices of their
-/// vertices in `clip` (checked by the bin), and only what the shader reads is gathered.
-struct Batch<'a, 'v, S> {
+/// vertices in the draw's `verts.clip` (checked by the bin), and only what the shader reads
+/// is gathered.
+struct Batch<'a, S> {
     input: &'a BinInput<'a, S>,
-    clip: &'v [(Vec4, VertexIn)],
     queued: [[u32; 3]; 8],
     len: usize,
     width: usize,
 }
 
-impl<'a, 'v, S: Shader> Batch<'a, 'v, S> {
-    fn new(input: &'a BinInput<'a, S>, clip: &'v [(Vec4, VertexIn)]) -> Batch<'a, 'v, S> {
+impl<'a, S: Shader> Batch<'a, S> {
+    fn new(input: &'a BinInput<'a, S>) -> Batch<'a, S> {
         Batch {
             input,
-            clip,
             queued: [[0; 3]; 8],
             len: 0,
             width: if input.wide.avx2.is_some() { 8 } else { 4 },
@@ -386,7 +385,7 @@ impl<'a, 'v, S: Shader> Batch<'a, 'v, S> {
         }
         let task = Colors {
             shader: self.input.shader,
-            clip: self.clip,
+            clip: &self.input.verts.clip,
             tris: &self.queued,
         };
         #[cfg(target_arch = "x86_64")]
