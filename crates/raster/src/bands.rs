@@ -15,15 +15,17 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::bin::TriRec;
 use crate::coverage::BandTarget;
+use crate::coverage::lanes;
 use crate::framebuffer::layer::LayerRows;
 use crate::framebuffer::{Framebuffer, clear_rows, same_color};
-use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes};
+use crate::group::{Basis, Group, Kind, LANES, Marks, Portable, RowLanes};
 use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
-use crate::shader::{Face, Shader};
-use crate::traverse::Solid;
+use crate::shader::{Face, Shader, interpolated};
+use crate::traverse::{OnePixel, Planes, Solid};
 use crate::two_pass::draw_two_pass;
 use crate::viewport::{BAND_ROWS, band_rows};
 
@@ -167,7 +169,7 @@ fn single_loop<S: Shader, const INLINE: bool, R: RowLanes>(
     target: &mut BandTarget,
     lanes: R,
 ) -> u64 {
-    if grouped::<S>(target) {
+    if grouped(input, target) {
         return group_loop::<S, INLINE, R>(input, b, target, lanes);
     }
     let n = if S::FACE == Face::Constant {
@@ -190,13 +192,24 @@ fn single_loop<S: Shader, const INLINE: bool, R: RowLanes>(
     shaded
 }
 
-/// Whether [`single_loop`] draws `input`'s records through [`group_loop`]: a constant colour
-/// (or depth alone), not the coverage-count hook. (A pixel stage run per pixel as it passes,
-/// `gouraud`'s, was measured there too: the planes set up one triangle at a time cost what
-/// the lanes saved, so it keeps the one-triangle path.)
+/// Whether [`single_loop`] draws `input`'s records through [`group_loop`] (not the
+/// coverage-count hook): a constant colour (or depth alone), or a pixel stage run per pixel
+/// as it passes (`gouraud`'s) on up to four attributes, whose planes the lanes' basis gives
+/// for the cost of their arithmetic ([`Group::planes`]). Not the incremental scan line,
+/// which steps its own edges, nor a shader that reads gradients.
 #[inline(always)]
-fn grouped<S: Shader>(target: &BandTarget) -> bool {
-    !target.count && S::FACE == Face::Constant
+fn grouped<S: Shader>(input: &BandInput<S>, target: &BandTarget) -> bool {
+    !target.count
+        && match S::FACE {
+            Face::Constant => true,
+            Face::Interpolated => {
+                !S::SHADE_ONCE
+                    && !input.incremental
+                    && S::GRADIENTS.is_none()
+                    && lanes(interpolated::<S>()) <= 4
+            }
+            Face::Stepped => false,
+        }
 }
 
 /// [`single_loop`] for the shaders [`grouped`] names: eight records set up at a time, the
@@ -208,31 +221,50 @@ fn group_loop<S: Shader, const INLINE: bool, R: RowLanes>(
     target: &mut BandTarget,
     lanes: R,
 ) -> u64 {
+    let n = if S::FACE == Face::Constant {
+        0
+    } else {
+        S::VARYINGS
+    };
     let mut t = RasterTri::empty();
     let mut batched = input.batched();
     let mut shaded = 0;
     let (width, y0) = (target.width as usize, target.y0);
+    let mut basis = Basis::new();
     for (c, recs) in input.records(b) {
         for group in recs.chunks(LANES) {
-            let g = Group::set(group, input.pos, target.width, (y0, target.y1));
+            let band = (y0, target.y1);
+            let g = if S::FACE == Face::Constant {
+                Group::set(group, input.pos, target.width, band)
+            } else {
+                Group::set_planes(group, input.pos, target.width, band, &mut basis)
+            };
             let mut marks = Marks::NONE;
             for (k, r) in group.iter().enumerate() {
                 match g.kind[k] {
                     Kind::Small => {
                         let (color, depth) = (&mut *target.color, &mut *target.depth);
                         let band = (depth, width, y0);
-                        let fill = (!input.depth_only).then(|| {
-                            let rgb = c.colors.get(r.tri as usize).copied();
-                            let Solid(rgb) = Solid::of(rgb.unwrap_or(Vec3::ZERO), input.ceiling);
-                            (color, rgb)
-                        });
-                        shaded += u64::from(g.draw(lanes, k, band, fill, |_, _, _| {}));
+                        if S::FACE == Face::Constant {
+                            let fill = (!input.depth_only).then(|| {
+                                let rgb = c.colors.get(r.tri as usize).copied();
+                                let Solid(rgb) =
+                                    Solid::of(rgb.unwrap_or(Vec3::ZERO), input.ceiling);
+                                (color, rgb)
+                            });
+                            shaded += u64::from(g.draw(lanes, k, band, fill, |_, _, _| {}));
+                        } else {
+                            let planes = small_planes(input, (&g, &basis, k), r);
+                            let mut shade = OnePixel(input.shader, input.ceiling);
+                            let drawn = g.draw_shaded(lanes, k, band, (&planes, &mut shade), color);
+                            shaded += u64::from(drawn);
+                        }
                         // Its spans are marked whether or not they passed the depth test.
                         marks.add(g.bounds(k));
                     }
                     Kind::Empty => {}
                     Kind::Other => {
-                        if input.setup(&mut t, c, r, 0) {
+                        if input.setup(&mut t, c, r, n) {
                             shaded += input.draw::<INLINE>(&t, (c, r), target, &mut batched);
                         }
                     }
@@ -242,6 +274,27 @@ fn group_loop<S: Shader, const INLINE: bool, R: RowLanes>(
         }
     }
     shaded
+}
+
+/// The attribute planes of small record `r`, lane `k` of `g`: its vertices' first
+/// `S::VARYINGS` (at most four) varyings, zeros past them, as [`Planes::set`] pads them.
+#[inline(always)]
+fn small_planes<S: Shader>(
+    input: &BandInput<S>,
+    (g, basis, k): (&Group, &Basis, usize),
+    r: &TriRec,
+) -> Planes {
+    let stride = S::VARYINGS;
+    let (mut a, mut inv_w) = ([[0.0f32; 4]; 3], [0.0f64; 3]);
+    for j in 0..3 {
+        let i = r.v[j] as usize;
+        inv_w[j] = input.pos.get(i).map_or(0.0, |p| p.inv_w);
+        if let Some(v) = input.attrs.get(i * stride..i * stride + stride) {
+            let m = stride.min(4);
+            a[j][..m].copy_from_slice(&v[..m]);
+        }
+    }
+    g.planes((basis, k), (inv_w, input.perspective && stride > 0), a)
 }
 
 /// [`draw_single`] as one AVX2 function (flat faces, fill-only, shadow casters, Gouraud):

@@ -11,6 +11,12 @@
 //! in `i32`. Other records (larger, or with vertices made by clipping) are left to
 //! [`crate::setup::RasterTri`] and [`crate::coverage::for_each_span`], in the same order.
 //!
+//! A pixel stage run per pixel as it passes (`gouraud`'s) draws from the lanes too: the
+//! basis its attribute planes need (edges from the first vertex, inverse area, vertex order)
+//! is the depth plane's, kept per lane ([`Group::set_planes`]), so each small triangle's
+//! planes cost only their own arithmetic ([`Group::planes`]), and each row's passing pixels
+//! are shaded from its first covered pixel as a span is ([`Group::draw_shaded`]).
+//!
 //! Nothing changes in the picture: the edge values are the same integers as
 //! [`crate::setup::RasterTri`]'s (`a X + b Y + c` with `c = -(a px + b py) - bias`, here
 //! `a (X - px) + b (Y - py) - bias`), with its top-left rule; the depth plane is computed with
@@ -23,7 +29,9 @@ use glam::Vec3;
 use phosphor_math::fixed::SUBPIXEL_ONE;
 
 use crate::bin::{EXTRA_VERTEX, TriRec};
+use crate::clip::MAX_ATTRS;
 use crate::setup::ScreenPos;
+use crate::traverse::{Planes, SpanShade, shade_passed};
 
 /// Records set up per call: one vector of eight lanes.
 pub(crate) const LANES: usize = 8;
@@ -73,15 +81,54 @@ pub(crate) struct Group {
     z: [[f64; LANES]; 3],
 }
 
+/// The basis of a group's attribute planes ([`Group::set_planes`]), per record: the edges
+/// from the first vertex to the second and third (x, y, x, y, in pixels) in the set-up's
+/// vertex order, the inverse of twice the area, and whether vertices 1 and 2 were swapped
+/// into that order (a negative area). Kept apart from [`Group`], whose other users do not
+/// need it.
+pub(crate) struct Basis {
+    edges: [[f64; LANES]; 5],
+    swap: [bool; LANES],
+}
+
+impl Basis {
+    /// A basis to set groups into.
+    pub(crate) fn new() -> Basis {
+        Basis {
+            edges: [[0.0; LANES]; 5],
+            swap: [false; LANES],
+        }
+    }
+}
+
 impl Group {
     /// Sets up `recs` (at most [`LANES`]) for the band of rows `[y0, y1)` of an image `width`
     /// pixels wide, from the draw's screen positions `pos`.
     #[inline(always)]
-    pub(crate) fn set(
+    pub(crate) fn set(recs: &[TriRec], pos: &[ScreenPos], width: u32, band: (i64, i64)) -> Group {
+        Group::set_impl(recs, pos, width, band, None)
+    }
+
+    /// [`Group::set`], keeping the basis of the records' planes in `basis` for
+    /// [`Group::planes`] (what a constant colour or the depth pass do not pay for).
+    #[inline(always)]
+    pub(crate) fn set_planes(
+        recs: &[TriRec],
+        pos: &[ScreenPos],
+        width: u32,
+        band: (i64, i64),
+        basis: &mut Basis,
+    ) -> Group {
+        Group::set_impl(recs, pos, width, band, Some(basis))
+    }
+
+    #[inline(always)]
+    fn set_impl(
         recs: &[TriRec],
         pos: &[ScreenPos],
         width: u32,
         (y0, y1): (i64, i64),
+        mut basis: Option<&mut Basis>,
     ) -> Group {
         // Gathered: each vertex's fixed-point position and depth. A record with a vertex made
         // by clipping, or without a screen position, is left to the one-triangle path.
@@ -195,16 +242,60 @@ impl Group {
             g.z[2][k] = (d2 * dx1 - d1 * dx2) * inv_area;
             g.origin[0][k] = xy[0].0;
             g.origin[1][k] = xy[0].1;
+            if let Some(b) = &mut basis {
+                b.edges[0][k] = dx1;
+                b.edges[1][k] = dy1;
+                b.edges[2][k] = dx2;
+                b.edges[3][k] = dy2;
+                b.edges[4][k] = inv_area;
+                b.swap[k] = swap;
+            }
         }
         g
+    }
+
+    /// The attribute planes of small record `k` of a group set by [`Group::set_planes`] with
+    /// `basis`, bit for bit those [`Planes::set`] computes
+    /// with up to four attributes: from the values `a` at its vertices (in the record's
+    /// order; zeros past the attributes in use) and, with `perspective`, the plane of the
+    /// vertices' `1/w` values `inv_w`, else `1/w = 1`. The basis is the one the depth plane
+    /// was set up with, so a small triangle's planes cost the attributes' arithmetic alone.
+    #[inline(always)]
+    pub(crate) fn planes(
+        &self,
+        (basis, k): (&Basis, usize),
+        (inv_w, perspective): ([f64; 3], bool),
+        a: [[f32; 4]; 3],
+    ) -> Planes {
+        let b = &basis.edges;
+        let basis = ([b[0][k], b[1][k], b[2][k], b[3][k]], b[4][k], basis.swap[k]);
+        let mut p = Planes {
+            origin: (self.origin[0][k], self.origin[1][k]),
+            inv_w: [1.0, 0.0, 0.0],
+            attr0: [0.0; MAX_ATTRS],
+            attr_dx: [0.0; MAX_ATTRS],
+            attr_dy: [0.0; MAX_ATTRS],
+        };
+        if perspective {
+            p.inv_w = plane(basis, inv_w);
+        }
+        for i in 0..4 {
+            let v = [f64::from(a[0][i]), f64::from(a[1][i]), f64::from(a[2][i])];
+            let [a0, gx, gy] = plane(basis, v);
+            p.attr0[i] = a0 as f32;
+            p.attr_dx[i] = gx as f32;
+            p.attr_dy[i] = gy as f32;
+        }
+        p
     }
 
     /// Draws small record `k` into a band whose first row is `band_y0`, rows `width` pixels
     /// wide in `depth`, with lanes `r`: each pixel that passes the depth test gets its depth
     /// written, and, with `fill = Some((buffer, v))`, `v` at its index in `buffer` (laid out
-    /// as `depth`), eight columns at a time ([`fill_in`]); `row(at, passed, (x, y))` is told,
-    /// per row with such pixels, the band index `at` of the row's first column `x` (image
-    /// row `y`) and the bits `j` (below 16) of the columns `at + j` that passed. The fill is
+    /// as `depth`), eight columns at a time ([`fill_in`]); `row(at, [inside, passed], (x,
+    /// y))` is told, per row with such pixels, the band index `at` of the row's first column
+    /// `x` (image row `y`) and the bits `j` (below 16) of the columns `at + j` that the
+    /// triangle covers and that passed. The fill is
     /// done here, not by `row`, so that its lane operations are compiled in the caller's
     /// instruction set (a closure is compiled in the baseline's). Returns the pixels that
     /// passed.
@@ -215,13 +306,41 @@ impl Group {
         k: usize,
         band: (&mut [f32], usize, i64),
         fill: Option<(&mut [T], T)>,
-        row: impl FnMut(usize, u32, (i64, i64)),
+        row: impl FnMut(usize, [u32; 2], (i64, i64)),
     ) -> u32 {
         if self.cols[k] >> LANES == 0 {
             self.draw_rows::<R, T, 1>(r, k, band, fill, row)
         } else {
             self.draw_rows::<R, T, 2>(r, k, band, fill, row)
         }
+    }
+
+    /// [`Group::draw`] for a pixel stage run per pixel as it passes: small record `k`, whose
+    /// planes are `p` ([`Group::planes`]), drawn with `shade` into `color` (laid out as the
+    /// band's depths), each row's passing pixels shaded as the one-triangle traversal's span
+    /// from the row's first covered pixel shades them ([`shade_passed`]). Returns the pixels
+    /// that passed.
+    #[inline(always)]
+    pub(crate) fn draw_shaded<R: RowLanes, T: SpanShade>(
+        &self,
+        r: R,
+        k: usize,
+        band: (&mut [f32], usize, i64),
+        (p, shade): (&Planes, &mut T),
+        color: &mut [Vec3],
+    ) -> u32 {
+        self.draw(
+            r,
+            k,
+            band,
+            None::<(&mut [Vec3], Vec3)>,
+            #[inline(always)]
+            |at, [inside, passed], (lo, y)| {
+                let s = inside.trailing_zeros();
+                let first = (at + s as usize, lo + i64::from(s), y);
+                shade_passed(p, shade, color, first, passed >> s);
+            },
+        )
     }
 
     /// [`Group::draw`] with `V` vectors of eight columns per row.
@@ -232,7 +351,7 @@ impl Group {
         k: usize,
         (depth, width, band_y0): (&mut [f32], usize, i64),
         mut fill: Option<(&mut [T], T)>,
-        mut row: impl FnMut(usize, u32, (i64, i64)),
+        mut row: impl FnMut(usize, [u32; 2], (i64, i64)),
     ) -> u32 {
         let lo = self.lo[k];
         let step = LANES as i32;
@@ -312,7 +431,7 @@ impl Group {
                 if let Some((buffer, v)) = &mut fill {
                     fill_in(r, buffer, here, passed, *v);
                 }
-                row(here, passed, (i64::from(lo), i64::from(y)));
+                row(here, [inside, passed], (i64::from(lo), i64::from(y)));
                 passed_all += passed.count_ones();
             }
         }
@@ -418,6 +537,20 @@ pub(crate) fn for_bits(mut bits: u32, mut f: impl FnMut(usize)) {
         f(bits.trailing_zeros() as usize);
         bits &= bits - 1;
     }
+}
+
+/// The plane through the values `a` at a triangle's vertices (in its record's order) over
+/// `basis` (`[dx1, dy1, dx2, dy2]`, the inverse of twice the area, whether vertices 1 and 2
+/// are swapped): `PlaneBasis::plane`'s operations in its vertex order.
+#[inline(always)]
+fn plane(([dx1, dy1, dx2, dy2], inv_area, swap): ([f64; 4], f64, bool), a: [f64; 3]) -> [f64; 3] {
+    let (a0, (a1, a2)) = (a[0], if swap { (a[2], a[1]) } else { (a[1], a[2]) });
+    let (d1, d2) = (a1 - a0, a2 - a0);
+    [
+        a0,
+        (d1 * dy2 - d2 * dy1) * inv_area,
+        (d2 * dx1 - d1 * dx2) * inv_area,
+    ]
 }
 
 /// Twice the signed area of a triangle (`setup::screen_area2`), in i32: exact for a small

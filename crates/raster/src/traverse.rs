@@ -248,6 +248,45 @@ fn span<T: SpanShade, const PERSPECTIVE: bool, const VISIBLE: bool>(
     shaded
 }
 
+/// The pixels of one row of a small triangle drawn from the lanes ([`crate::group`]), after
+/// their depth test: bit `j` of `passed` for the pixel `j` columns right of the row's first
+/// covered pixel, column `x` of row `y`, at band index `at`. What [`span`] does for them:
+/// the planes `p` evaluated at the first covered pixel and stepped pixel by pixel, so each
+/// passing pixel gets the attributes the one-triangle traversal gives it.
+#[inline(always)]
+pub(crate) fn shade_passed<T: SpanShade>(
+    p: &Planes,
+    shade: &mut T,
+    color: &mut [Vec3],
+    (at, x, y): (usize, i64, i64),
+    mut passed: u32,
+) {
+    let n = lanes(T::ATTRS);
+    let (x0c, yc) = (x as f64 + 0.5, y as f64 + 0.5);
+    let (ox, oy) = (x0c - p.origin.0, yc - p.origin.1);
+    let (mut inv_w, mut attrs) =
+        planes_at(&p.inv_w, [&p.attr0, &p.attr_dx, &p.attr_dy], (ox, oy), n);
+    let mut state = shade.span(x0c, yc);
+    let mut j = 0;
+    loop {
+        if passed & 1 != 0 {
+            // Without perspective the plane of `1/w` is 1 everywhere, and so is `w`.
+            let w = (1.0 / inv_w) as f32;
+            shade.pixel(&state, at + j, (&attrs, w), (x + j as i64, y), color);
+        }
+        passed >>= 1;
+        if passed == 0 {
+            break;
+        }
+        inv_w += p.inv_w[1];
+        for k in 0..n {
+            attrs[k] += p.attr_dx[k];
+        }
+        T::step(&mut state);
+        j += 1;
+    }
+}
+
 /// The attribute planes of a set-up triangle: what the by-pixel pass evaluates.
 #[derive(Debug, Clone, Copy)]
 pub struct Planes {

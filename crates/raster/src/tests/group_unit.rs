@@ -5,8 +5,10 @@ use glam::Vec3;
 
 use super::*;
 use crate::bin::TriRec;
+use crate::clip::Attrs;
 use crate::coverage::{BandTarget, depth_at, depth_only};
 use crate::setup::RasterTri;
+use crate::traverse::SpanShade;
 
 const WIDTH: u32 = 37;
 const BAND: (i64, i64) = (32, 48);
@@ -250,7 +252,7 @@ fn the_depth_formula_is_the_one_the_lanes_compute() {
         0,
         (&mut depth, WIDTH as usize, BAND.0),
         None::<(&mut [u64], u64)>,
-        |at, passed, xy| {
+        |at, [_, passed], xy| {
             rows.push((at, passed, xy));
         },
     );
@@ -272,6 +274,153 @@ fn the_depth_formula_is_the_one_the_lanes_compute() {
         });
     }
     assert!(seen > 10, "{seen} pixels");
+}
+
+/// Writes `w` times the first three attributes as the colour: what `gouraud`'s pixel stage
+/// does, without a shader.
+struct ThreeAttrs;
+
+impl SpanShade for ThreeAttrs {
+    const ATTRS: usize = 3;
+    type Span = ();
+    fn span(&self, _: f64, _: f64) {}
+    fn pixel(&mut self, _: &(), idx: usize, (a, w): (&Attrs, f32), _: (i64, i64), c: &mut [Vec3]) {
+        c[idx] = Vec3::new(a[0] * w, a[1] * w, a[2] * w);
+    }
+    fn step(_: &mut ()) {}
+}
+
+/// Records in order, depth-tested and shaded as they are drawn, with three perspective-correct
+/// attributes: through the one-triangle traversal (`lanes` `None`), or eight at a time with
+/// the small ones from the lanes `r` (their planes from [`Group::planes`]). The band's colours
+/// and depths.
+fn shaded<R: RowLanes>(
+    r: Option<R>,
+    pos: &[ScreenPos],
+    attrs: &[f32],
+    recs: &[TriRec],
+) -> (Vec<Vec3>, Vec<f32>) {
+    let len = WIDTH as usize * (BAND.1 - BAND.0) as usize;
+    let (mut color, mut depth) = (vec![Vec3::ZERO; len], vec![1.0f32; len]);
+    let mut target = BandTarget::new(&mut color, &mut depth, WIDTH, BAND.0, false);
+    let mut t = RasterTri::empty();
+    let of = |v: [u32; 3]| v.map(|i| &attrs[3 * i as usize..3 * i as usize + 3]);
+    let mut one = |rec: &TriRec, target: &mut BandTarget| {
+        if t.set(rec.v.map(|i| pos[i as usize]), of(rec.v), 3, true) {
+            crate::traverse::traverse(&t, &mut ThreeAttrs, target);
+        }
+    };
+    for group in recs.chunks(LANES) {
+        let Some(r) = r else {
+            group.iter().for_each(|rec| one(rec, &mut target));
+            continue;
+        };
+        let mut basis = Basis::new();
+        let g = Group::set_planes(group, pos, WIDTH, BAND, &mut basis);
+        for (k, rec) in group.iter().enumerate() {
+            match g.kind[k] {
+                Kind::Small => {
+                    let inv_w = rec.v.map(|i| pos[i as usize].inv_w);
+                    let a = of(rec.v).map(|a| [a[0], a[1], a[2], 0.0]);
+                    let planes = g.planes((&basis, k), (inv_w, true), a);
+                    let band = (&mut *target.depth, WIDTH as usize, BAND.0);
+                    let shade = (&planes, &mut ThreeAttrs);
+                    g.draw_shaded(r, k, band, shade, target.color);
+                }
+                Kind::Empty => {}
+                Kind::Other => one(rec, &mut target),
+            }
+        }
+    }
+    (color, depth)
+}
+
+fn shaded_alike<R: RowLanes>(r: R, seed: u64) {
+    let mut rng = Rng(seed);
+    let mut pos = triangles(&mut rng, 600);
+    for p in &mut pos {
+        // `1/w` from 0.1 to 4: perspective that differs across each triangle.
+        p.inv_w = 0.1 + f64::from(rng.range(0, 1 << 16)) / f64::from(1 << 16) * 3.9;
+    }
+    let attrs: Vec<f32> = (0..3 * pos.len())
+        .map(|_| rng.range(-1000, 1000) as f32 / 317.0)
+        .collect();
+    let recs: Vec<TriRec> = (0..pos.len() as u32 / 3)
+        .map(|t| TriRec {
+            v: [3 * t, 3 * t + 1, 3 * t + 2],
+            tri: t,
+        })
+        .collect();
+    let (want_color, want_depth) = shaded(None::<R>, &pos, &attrs, &recs);
+    let (color, depth) = shaded(Some(r), &pos, &attrs, &recs);
+    let drawn = want_color.iter().filter(|c| **c != Vec3::ZERO).count();
+    assert!(drawn > 200, "too little drawn: {drawn}");
+    for (i, (a, b)) in want_depth.iter().zip(&depth).enumerate() {
+        assert_eq!(a.to_bits(), b.to_bits(), "depth of band pixel {i}");
+    }
+    for (i, (a, b)) in want_color.iter().zip(&color).enumerate() {
+        let bits = |c: &Vec3| c.to_array().map(f32::to_bits);
+        assert_eq!(
+            bits(a),
+            bits(b),
+            "colour of band pixel {i}: {a} against {b}"
+        );
+    }
+}
+
+#[test]
+fn interpolated_pixels_from_the_lanes_are_the_traversals_bit_for_bit() {
+    for seed in [5, 0x853c_49e6_748f_ea9b, 2024] {
+        shaded_alike(Portable, seed);
+        #[cfg(target_arch = "x86_64")]
+        if let Some(avx2) = phosphor_lighting::Avx2::detect() {
+            avx2.run(|a: phosphor_lighting::Avx2| shaded_alike(Avx2Rows::new(a.v3()), seed));
+        }
+    }
+}
+
+#[test]
+fn a_small_triangles_planes_are_the_set_ups_bit_for_bit() {
+    let mut rng = Rng(99);
+    let pos = triangles(&mut rng, 400);
+    let mut checked = 0;
+    for (t, tri) in pos.chunks_exact(3).enumerate() {
+        let mut p = [tri[0], tri[1], tri[2]];
+        for (j, v) in p.iter_mut().enumerate() {
+            v.inv_w = 0.25 + (t * 3 + j) as f64 * 0.001;
+        }
+        let a: [[f32; 4]; 3] = std::array::from_fn(|j| {
+            let v = |q: usize| ((t * 7 + j * 3 + q) % 23) as f32 / 7.0 - 1.5;
+            [v(0), v(1), v(2), 0.0]
+        });
+        let recs = [TriRec {
+            v: [0, 1, 2],
+            tri: 0,
+        }];
+        let mut basis = Basis::new();
+        let g = Group::set_planes(&recs, &p, WIDTH, BAND, &mut basis);
+        if g.kind[0] != Kind::Small {
+            continue;
+        }
+        let inv_w = [p[0].inv_w, p[1].inv_w, p[2].inv_w];
+        for perspective in [true, false] {
+            let got = g.planes((&basis, 0), (inv_w, perspective), a);
+            let want = Planes::set(p, [&a[0][..3], &a[1][..3], &a[2][..3]], 3, perspective)
+                .expect("a small triangle has area");
+            assert_eq!(got.origin, want.origin);
+            assert_eq!(got.inv_w.map(f64::to_bits), want.inv_w.map(f64::to_bits));
+            for (x, y) in [
+                (got.attr0, want.attr0),
+                (got.attr_dx, want.attr_dx),
+                (got.attr_dy, want.attr_dy),
+            ] {
+                let bits = |a: &Attrs| a[..4].iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&x), bits(&y), "triangle {t}");
+            }
+        }
+        checked += 1;
+    }
+    assert!(checked > 100, "{checked} small triangles");
 }
 
 /// Rows written by `fill_in` with lanes `r`, a colour and an id per step, against writing
