@@ -30,7 +30,7 @@ use phosphor_math::fixed::SUBPIXEL_ONE;
 
 use crate::bin::{EXTRA_VERTEX, TriRec};
 use crate::clip::MAX_ATTRS;
-use crate::setup::ScreenPos;
+use crate::setup::{ScreenPos, plane_through};
 use crate::traverse::{Planes, SpanShade, shade_passed};
 
 /// Records set up per call: one vector of eight lanes.
@@ -235,11 +235,11 @@ impl Group {
             let (dx2, dy2) = (xy[2].0 - xy[0].0, xy[2].1 - xy[0].1);
             let inv_area =
                 (SUBPIXEL_ONE * SUBPIXEL_ONE) as f64 / f64::from(area.wrapping_abs()).max(1.0);
-            let z0 = zv[0][k];
-            let (d1, d2) = (z1 - z0, z2 - z0);
+            let edges = ((dx1, dy1), (dx2, dy2));
+            let [z0, zx, zy] = plane_through(edges, inv_area, [zv[0][k], z1, z2]);
             g.z[0][k] = z0;
-            g.z[1][k] = (d1 * dy2 - d2 * dy1) * inv_area;
-            g.z[2][k] = (d2 * dx1 - d1 * dx2) * inv_area;
+            g.z[1][k] = zx;
+            g.z[2][k] = zy;
             g.origin[0][k] = xy[0].0;
             g.origin[1][k] = xy[0].1;
             if let Some(b) = &mut basis {
@@ -541,16 +541,11 @@ pub(crate) fn for_bits(mut bits: u32, mut f: impl FnMut(usize)) {
 
 /// The plane through the values `a` at a triangle's vertices (in its record's order) over
 /// `basis` (`[dx1, dy1, dx2, dy2]`, the inverse of twice the area, whether vertices 1 and 2
-/// are swapped): `PlaneBasis::plane`'s operations in its vertex order.
+/// are swapped): [`plane_through`] in the set-up's vertex order.
 #[inline(always)]
 fn plane(([dx1, dy1, dx2, dy2], inv_area, swap): ([f64; 4], f64, bool), a: [f64; 3]) -> [f64; 3] {
-    let (a0, (a1, a2)) = (a[0], if swap { (a[2], a[1]) } else { (a[1], a[2]) });
-    let (d1, d2) = (a1 - a0, a2 - a0);
-    [
-        a0,
-        (d1 * dy2 - d2 * dy1) * inv_area,
-        (d2 * dx1 - d1 * dx2) * inv_area,
-    ]
+    let (a1, a2) = if swap { (a[2], a[1]) } else { (a[1], a[2]) };
+    plane_through(((dx1, dy1), (dx2, dy2)), inv_area, [a[0], a1, a2])
 }
 
 /// Twice the signed area of a triangle (`setup::screen_area2`), in i32: exact for a small

@@ -436,13 +436,7 @@ impl<'a> PlaneBasis<'a> {
     /// origin, `d/dx` and `d/dy`.
     #[inline(always)]
     pub fn plane(&self, a0: f64, a1: f64, a2: f64) -> [f64; 3] {
-        let ((dx1, dy1), (dx2, dy2)) = (self.d1, self.d2);
-        let (d1, d2) = (a1 - a0, a2 - a0);
-        [
-            a0,
-            (d1 * dy2 - d2 * dy1) * self.inv_area,
-            (d2 * dx1 - d1 * dx2) * self.inv_area,
-        ]
+        plane_through((self.d1, self.d2), self.inv_area, [a0, a1, a2])
     }
 
     /// The planes of attributes `0..n` into `[attr0, attr_dx, attr_dy]`, in f32, one by one:
@@ -505,6 +499,24 @@ impl<'a> PlaneBasis<'a> {
             [1.0, 0.0, 0.0]
         }
     }
+}
+
+/// The plane through the values `a0`, `a1`, `a2` at a triangle's vertices, from the edges
+/// `d1`, `d2` (pixels) from its first vertex to the other two and the inverse of twice its
+/// area: its value at the first vertex, `d/dx` and `d/dy`. The one formula of every plane,
+/// so that the lanes' planes ([`crate::group`]) have the bits of [`PlaneBasis::plane`]'s.
+#[inline(always)]
+pub(crate) fn plane_through(
+    ((dx1, dy1), (dx2, dy2)): ((f64, f64), (f64, f64)),
+    inv_area: f64,
+    [a0, a1, a2]: [f64; 3],
+) -> [f64; 3] {
+    let (d1, d2) = (a1 - a0, a2 - a0);
+    [
+        a0,
+        (d1 * dy2 - d2 * dy1) * inv_area,
+        (d2 * dx1 - d1 * dx2) * inv_area,
+    ]
 }
 
 #[cfg(test)]
