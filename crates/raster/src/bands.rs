@@ -15,7 +15,6 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
-use crate::bin::TriRec;
 use crate::coverage::BandTarget;
 use crate::coverage::lanes;
 use crate::framebuffer::layer::LayerRows;
@@ -25,7 +24,7 @@ use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
 use crate::shader::{Face, Shader, interpolated};
-use crate::traverse::{OnePixel, Planes, Solid};
+use crate::traverse::{OnePixel, Solid};
 use crate::two_pass::draw_two_pass;
 use crate::viewport::{BAND_ROWS, band_rows};
 
@@ -254,7 +253,8 @@ fn group_loop<S: Shader, const INLINE: bool, R: RowLanes>(
                             });
                             shaded += u64::from(g.draw(lanes, k, band, fill, |_, _, _| {}));
                         } else {
-                            let planes = small_planes(input, (&g, &basis, k), r);
+                            let (inv_w, a) = input.plane_values::<4>(r);
+                            let planes = g.planes((&basis, k), inv_w, a);
                             let mut shade = OnePixel(input.shader, input.ceiling);
                             let drawn = g.draw_shaded(lanes, k, band, (&planes, &mut shade), color);
                             shaded += u64::from(drawn);
@@ -274,27 +274,6 @@ fn group_loop<S: Shader, const INLINE: bool, R: RowLanes>(
         }
     }
     shaded
-}
-
-/// The attribute planes of small record `r`, lane `k` of `g`: its vertices' first
-/// `S::VARYINGS` (at most four) varyings, zeros past them, as [`Planes::set`] pads them.
-#[inline(always)]
-fn small_planes<S: Shader>(
-    input: &BandInput<S>,
-    (g, basis, k): (&Group, &Basis, usize),
-    r: &TriRec,
-) -> Planes {
-    let stride = S::VARYINGS;
-    let (mut a, mut inv_w) = ([[0.0f32; 4]; 3], [0.0f64; 3]);
-    for j in 0..3 {
-        let i = r.v[j] as usize;
-        inv_w[j] = input.pos.get(i).map_or(0.0, |p| p.inv_w);
-        if let Some(v) = input.attrs.get(i * stride..i * stride + stride) {
-            let m = stride.min(4);
-            a[j][..m].copy_from_slice(&v[..m]);
-        }
-    }
-    g.planes((basis, k), (inv_w, input.perspective && stride > 0), a)
 }
 
 /// [`draw_single`] as one AVX2 function (flat faces, fill-only, shadow casters, Gouraud):

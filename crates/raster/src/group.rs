@@ -85,10 +85,14 @@ pub(crate) struct Group {
 /// from the first vertex to the second and third (x, y, x, y, in pixels) in the set-up's
 /// vertex order, the inverse of twice the area, and whether vertices 1 and 2 were swapped
 /// into that order (a negative area). Kept apart from [`Group`], whose other users do not
-/// need it.
+/// need it. The two-pass depth pass keeps one per group for the by-pixel pass, with the
+/// group's plane origins and which records were small ([`Basis::keep`]).
+#[derive(Clone, Copy)]
 pub(crate) struct Basis {
     edges: [[f64; LANES]; 5],
     swap: [bool; LANES],
+    small: [bool; LANES],
+    origin: [[f64; LANES]; 2],
 }
 
 impl Basis {
@@ -97,8 +101,76 @@ impl Basis {
         Basis {
             edges: [[0.0; LANES]; 5],
             swap: [false; LANES],
+            small: [false; LANES],
+            origin: [[0.0; LANES]; 2],
         }
     }
+
+    /// Keeps what [`Basis::planes`] needs of `g` besides the basis it was set with: which
+    /// records are small, and their plane origins. Apart from [`Group::set_planes`], whose
+    /// own loop it slowed.
+    #[inline(always)]
+    pub(crate) fn keep(&mut self, g: &Group) {
+        for k in 0..LANES {
+            self.small[k] = g.kind[k] == Kind::Small;
+        }
+        self.origin = g.origin;
+    }
+
+    /// Whether record `k` of the kept group was small (its basis set).
+    #[inline(always)]
+    pub(crate) fn small(&self, k: usize) -> bool {
+        self.small.get(k) == Some(&true)
+    }
+
+    /// [`Group::planes`] of small record `k` of the kept group ([`Basis::keep`]), over `L`
+    /// lanes.
+    #[inline(always)]
+    pub(crate) fn planes<const L: usize>(
+        &self,
+        k: usize,
+        inv_w: ([f64; 3], bool),
+        a: [[f32; L]; 3],
+    ) -> Planes {
+        let origin = (self.origin[0][k], self.origin[1][k]);
+        lane_planes(origin, self.lane(k), inv_w, a)
+    }
+
+    /// Lane `k`'s basis, as [`plane`] takes it.
+    #[inline(always)]
+    fn lane(&self, k: usize) -> ([f64; 4], f64, bool) {
+        let b = &self.edges;
+        ([b[0][k], b[1][k], b[2][k], b[3][k]], b[4][k], self.swap[k])
+    }
+}
+
+/// The planes from `origin` with `basis` ([`Basis::lane`]): `1/w` through `inv_w` with
+/// `perspective`, else `1/w = 1`, and the `L` attribute planes through `a`.
+#[inline(always)]
+fn lane_planes<const L: usize>(
+    origin: (f64, f64),
+    basis: ([f64; 4], f64, bool),
+    (inv_w, perspective): ([f64; 3], bool),
+    a: [[f32; L]; 3],
+) -> Planes {
+    let mut p = Planes {
+        origin,
+        inv_w: [1.0, 0.0, 0.0],
+        attr0: [0.0; MAX_ATTRS],
+        attr_dx: [0.0; MAX_ATTRS],
+        attr_dy: [0.0; MAX_ATTRS],
+    };
+    if perspective {
+        p.inv_w = plane(basis, inv_w);
+    }
+    for i in 0..L.min(MAX_ATTRS) {
+        let v = [f64::from(a[0][i]), f64::from(a[1][i]), f64::from(a[2][i])];
+        let [a0, gx, gy] = plane(basis, v);
+        p.attr0[i] = a0 as f32;
+        p.attr_dx[i] = gx as f32;
+        p.attr_dy[i] = gy as f32;
+    }
+    p
 }
 
 impl Group {
@@ -255,38 +327,21 @@ impl Group {
     }
 
     /// The attribute planes of small record `k` of a group set by [`Group::set_planes`] with
-    /// `basis`, bit for bit those [`Planes::set`] computes
-    /// with up to four attributes: from the values `a` at its vertices (in the record's
-    /// order; zeros past the attributes in use) and, with `perspective`, the plane of the
-    /// vertices' `1/w` values `inv_w`, else `1/w = 1`. The basis is the one the depth plane
-    /// was set up with, so a small triangle's planes cost the attributes' arithmetic alone.
+    /// `basis`, bit for bit those [`Planes::set`] computes with up to `L` attributes (4 or 8,
+    /// [`crate::coverage::lanes`] of the attributes in use; none when there are none): from
+    /// the values `a` at its vertices (in the record's order; zeros past the attributes in
+    /// use) and, with `perspective`, the plane of the vertices' `1/w` values `inv_w`, else
+    /// `1/w = 1`. The basis is the one the depth plane was set up with, so a small
+    /// triangle's planes cost the attributes' arithmetic alone.
     #[inline(always)]
-    pub(crate) fn planes(
+    pub(crate) fn planes<const L: usize>(
         &self,
         (basis, k): (&Basis, usize),
-        (inv_w, perspective): ([f64; 3], bool),
-        a: [[f32; 4]; 3],
+        inv_w: ([f64; 3], bool),
+        a: [[f32; L]; 3],
     ) -> Planes {
-        let b = &basis.edges;
-        let basis = ([b[0][k], b[1][k], b[2][k], b[3][k]], b[4][k], basis.swap[k]);
-        let mut p = Planes {
-            origin: (self.origin[0][k], self.origin[1][k]),
-            inv_w: [1.0, 0.0, 0.0],
-            attr0: [0.0; MAX_ATTRS],
-            attr_dx: [0.0; MAX_ATTRS],
-            attr_dy: [0.0; MAX_ATTRS],
-        };
-        if perspective {
-            p.inv_w = plane(basis, inv_w);
-        }
-        for i in 0..4 {
-            let v = [f64::from(a[0][i]), f64::from(a[1][i]), f64::from(a[2][i])];
-            let [a0, gx, gy] = plane(basis, v);
-            p.attr0[i] = a0 as f32;
-            p.attr_dx[i] = gx as f32;
-            p.attr_dy[i] = gy as f32;
-        }
-        p
+        let origin = (self.origin[0][k], self.origin[1][k]);
+        lane_planes(origin, basis.lane(k), inv_w, a)
     }
 
     /// Draws small record `k` into a band whose first row is `band_y0`, rows `width` pixels

@@ -72,6 +72,28 @@ impl<S: Shader> BandInput<'_, S> {
         a.iter().all(|a| a.len() >= n).then_some((p, a))
     }
 
+    /// What the planes of record `r` (with no clipped vertex) are set through
+    /// ([`crate::group::Group::planes`]): its vertices' `1/w` and whether attributes are
+    /// divided by `w`, and their first `S::VARYINGS` varyings (at most `L`) with zeros past
+    /// them, as [`crate::traverse::Planes::set`] pads them.
+    #[inline(always)]
+    pub(crate) fn plane_values<const L: usize>(
+        &self,
+        r: &TriRec,
+    ) -> (([f64; 3], bool), [[f32; L]; 3]) {
+        let stride = S::VARYINGS;
+        let (mut a, mut inv_w) = ([[0.0f32; L]; 3], [0.0f64; 3]);
+        for j in 0..3 {
+            let i = r.v[j] as usize;
+            inv_w[j] = self.pos.get(i).map_or(0.0, |p| p.inv_w);
+            if let Some(v) = self.attrs.get(i * stride..i * stride + stride) {
+                let m = stride.min(L);
+                a[j][..m].copy_from_slice(&v[..m]);
+            }
+        }
+        ((inv_w, self.perspective && stride > 0), a)
+    }
+
     /// Set-up of record `r` of chunk `c` into `t` with `n` attributes; false when it has no
     /// vertices or no area.
     #[inline(always)]

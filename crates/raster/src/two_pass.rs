@@ -13,7 +13,7 @@ use crate::bypixel::ByPixel;
 use crate::clip::Attrs;
 use crate::coverage::{BandTarget, Pass, depth_only, lanes};
 use crate::framebuffer::layer::LayerRows;
-use crate::group::{Group, Kind, LANES, Marks, Portable, RowLanes};
+use crate::group::{Basis, Group, Kind, LANES, Marks, Portable, RowLanes};
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
 use crate::shader::{Face, Shader, interpolated};
@@ -32,6 +32,12 @@ struct Scratch {
     slot: Vec<u32>,
     /// Attribute planes of the records that were nearest somewhere.
     planes: Vec<Planes>,
+    /// Per group of [`LANES`] records of each chunk, the basis the depth pass set its small
+    /// ones up with, when the by-pixel pass takes their planes from it ([`keeps_basis`]).
+    /// Reused from band to band: only the first `kept` are this band's.
+    bases: Vec<Basis>,
+    /// How many of `bases` the depth pass set for this band.
+    kept: usize,
 }
 
 /// Ids of the depth pass: a fresh epoch per band job in the high bits, so ids left in a
@@ -47,6 +53,8 @@ thread_local! {
             extents: Vec::new(),
             slot: Vec::new(),
             planes: Vec::new(),
+            bases: Vec::new(),
+            kept: 0,
         })
     };
 }
@@ -87,7 +95,9 @@ fn two_pass<'s, S: Shader>(
     scratch.extents.resize(rows, (u32::MAX, 0));
     let epoch = EPOCH.fetch_add(1, Ordering::Relaxed) << 32;
     let (ids, extents) = (&mut scratch.ids, &mut scratch.extents);
-    let records = depth_pass(input, b, &mut target, ids, extents, epoch);
+    let bases = &mut scratch.bases;
+    let (records, groups) = depth_pass(input, b, &mut target, (ids, extents, bases), epoch);
+    scratch.kept = groups;
     let (rows, avx2) = ((&extents[..], width), input.wide.avx2);
     mark_owners(ids, rows, epoch, records, &mut scratch.owns, avx2);
     // Only the depth pass writes outside the pixels it recorded (the shading passes write
@@ -110,6 +120,14 @@ fn two_pass<'s, S: Shader>(
         shaded += visible_pass(input, b, &mut target, &scratch.owns, epoch);
     }
     shaded
+}
+
+/// Whether the depth pass keeps its groups' bases ([`Basis`]) for the by-pixel pass: when
+/// the planes have at most eight attributes, so that [`Basis::planes`] gives them for the
+/// cost of the attributes' arithmetic, as [`Planes::set`] would. Decided per shader, not per
+/// draw, so that the depth pass is one loop.
+const fn keeps_basis<S: Shader>() -> bool {
+    S::VARYINGS <= 8
 }
 
 /// Whether record `r` is shaded from the id buffer (interpolated, and not walked by the
@@ -139,20 +157,23 @@ fn by_pixel_pass<S: Shader>(
         extents,
         slot,
         planes,
+        bases,
+        kept,
     } = scratch;
+    let bases = bases.get(..*kept).unwrap_or(&[]);
     #[cfg(target_arch = "x86_64")]
     let traced = match input.wide.avx2 {
         Some(avx2) => avx2.run(PlanesRun {
             input,
             b,
-            owns,
+            owns: (owns, bases),
             slot,
             planes,
         }),
-        None => visible_planes(input, b, owns, slot, planes),
+        None => visible_planes(input, b, (owns, bases), slot, planes),
     };
     #[cfg(not(target_arch = "x86_64"))]
-    let traced = visible_planes(input, b, owns, slot, planes);
+    let traced = visible_planes(input, b, (owns, bases), slot, planes);
     let pass = ByPixel {
         slot,
         planes,
@@ -208,15 +229,15 @@ fn by_pixel_pass<S: Shader>(
 /// The depth pass of band `b`: every triangle set up without attributes (the same edges and
 /// depth plane), depth-tested and written, and `ids[pixel]` set to `epoch + k` where record
 /// `k` of the band is now the nearest; `extents[row]` is widened to the columns written.
-/// Returns the band's record count.
+/// When the shader [`keeps_basis`], group `i`'s [`Basis`] is set in `bases[i]`. Returns the
+/// band's record count and the bases set.
 fn depth_pass<S: Shader>(
     input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
-    ids: &mut [u64],
-    extents: &mut [(u32, u32)],
+    (ids, extents, bases): (&mut [u64], &mut [(u32, u32)], &mut Vec<Basis>),
     epoch: u64,
-) -> usize {
+) -> (usize, usize) {
     #[cfg(target_arch = "x86_64")]
     if let Some(avx2) = input.wide.avx2 {
         return avx2.run(DepthRun {
@@ -225,10 +246,11 @@ fn depth_pass<S: Shader>(
             target,
             ids,
             extents,
+            bases,
             epoch,
         });
     }
-    depth_loop(input, b, target, ids, extents, epoch, Portable)
+    depth_loop(input, b, target, (ids, extents, bases), epoch, Portable)
 }
 
 /// [`depth_pass`] as one AVX2 function.
@@ -239,28 +261,29 @@ struct DepthRun<'p, 'a, 't, S: Shader> {
     target: &'p mut BandTarget<'t>,
     ids: &'p mut [u64],
     extents: &'p mut [(u32, u32)],
+    bases: &'p mut Vec<Basis>,
     epoch: u64,
 }
 
 #[cfg(target_arch = "x86_64")]
 impl<S: Shader> phosphor_lighting::Avx2Task for DepthRun<'_, '_, '_, S> {
-    type Output = usize;
+    type Output = (usize, usize);
     #[inline(always)]
-    fn run(self, avx2: phosphor_lighting::Avx2) -> usize {
+    fn run(self, avx2: phosphor_lighting::Avx2) -> (usize, usize) {
         let Self {
             input,
             b,
             target,
             ids,
             extents,
+            bases,
             epoch,
         } = self;
         depth_loop(
             input,
             b,
             target,
-            ids,
-            extents,
+            (ids, extents, bases),
             epoch,
             crate::group::Avx2Rows::new(avx2.v3()),
         )
@@ -273,19 +296,25 @@ fn depth_loop<S: Shader, R: RowLanes>(
     input: &BandInput<S>,
     b: usize,
     target: &mut BandTarget,
-    ids: &mut [u64],
-    extents: &mut [(u32, u32)],
+    (ids, extents, bases): (&mut [u64], &mut [(u32, u32)], &mut Vec<Basis>),
     epoch: u64,
     lanes: R,
-) -> usize {
+) -> (usize, usize) {
     let mut t = RasterTri::empty();
-    let mut seq = epoch;
+    let (mut seq, mut groups) = (epoch, 0);
+    let mut basis = Basis::new();
     let (width, y0) = (target.width as usize, target.y0);
     for (c, recs) in input.records(b) {
         // Eight records set up at a time; the small ones drawn from their lanes, the others
         // one by one, in order.
         for group in recs.chunks(LANES) {
-            let g = Group::set(group, input.pos, target.width, (y0, target.y1));
+            let band = (y0, target.y1);
+            // Set on the stack, as the one pass sets it, and kept once the group is drawn.
+            let g = if keeps_basis::<S>() {
+                Group::set_planes(group, input.pos, target.width, band, &mut basis)
+            } else {
+                Group::set(group, input.pos, target.width, band)
+            };
             let mut marks = Marks::NONE;
             for (k, r) in group.iter().enumerate() {
                 match g.kind[k] {
@@ -306,9 +335,17 @@ fn depth_loop<S: Shader, R: RowLanes>(
                 seq += 1;
             }
             marks.apply(extents, y0);
+            if keeps_basis::<S>() {
+                basis.keep(&g);
+                match bases.get_mut(groups) {
+                    Some(kept) => *kept = basis,
+                    None => bases.push(basis),
+                }
+                groups += 1;
+            }
         }
     }
-    (seq - epoch) as usize
+    ((seq - epoch) as usize, groups)
 }
 
 /// `owns[k]`: whether record `k` of `records` owns a pixel after the depth pass, from the ids
@@ -427,21 +464,25 @@ impl phosphor_lighting::Avx2Task for MarkRun<'_> {
 }
 
 /// The attribute planes of band `b`'s records that own a pixel and are shaded by pixel:
-/// `slot[k]` is record `k`'s index in `planes`, or `u32::MAX`. Returns whether some owner is
-/// not shaded by pixel (and needs [`visible_pass`]).
+/// `slot[k]` is record `k`'s index in `planes`, or `u32::MAX`. A small record whose group's
+/// basis the depth pass kept in `bases` gets its planes from it ([`Basis::planes`]), the
+/// others from [`Planes::set`]: the same bits. Returns whether some owner is not shaded by
+/// pixel (and needs [`visible_pass`]).
 #[inline(always)]
 fn visible_planes<S: Shader>(
     input: &BandInput<S>,
     b: usize,
-    owns: &[bool],
+    (owns, bases): (&[bool], &[Basis]),
     slot: &mut Vec<u32>,
     planes: &mut Vec<Planes>,
 ) -> bool {
     let n = S::VARYINGS;
     slot.clear();
     planes.clear();
-    let (mut k, mut traced, mut sink) = (0, false, 0);
+    let (mut k, mut traced, mut sink, mut groups) = (0, false, 0, 0);
     for (c, recs) in input.records(b) {
+        let at = groups;
+        groups += recs.len().div_ceil(LANES);
         for (i, r) in recs.iter().enumerate() {
             if owns.get(k + AHEAD) == Some(&true) {
                 sink ^= input.touch(recs.get(i + AHEAD), n);
@@ -450,10 +491,16 @@ fn visible_planes<S: Shader>(
             let by_pixel = owner && by_pixel(input, c, r);
             traced |= owner && !by_pixel;
             // Its pixels are known: the planes alone.
-            let set = by_pixel
-                .then(|| input.vertices_of(r, c, n))
-                .flatten()
-                .and_then(|(p, a)| Planes::set(p, a, n, input.perspective));
+            let kept = bases
+                .get(at + i / LANES)
+                .filter(|basis| basis.small(i % LANES));
+            let set = match (by_pixel, kept) {
+                (false, _) => None,
+                (true, Some(basis)) => Some(kept_planes(input, (basis, i % LANES), r)),
+                (true, None) => input
+                    .vertices_of(r, c, n)
+                    .and_then(|(p, a)| Planes::set(p, a, n, input.perspective)),
+            };
             slot.push(if set.is_some() {
                 planes.len() as u32
             } else {
@@ -472,12 +519,34 @@ fn visible_planes<S: Shader>(
     traced
 }
 
+/// The planes of small record `r`, lane `k` of a group whose basis the depth pass kept, over
+/// the lanes [`Planes::set`] computes for the shader's varyings (none, four or eight), so that
+/// every lane has its bits.
+#[inline(always)]
+fn kept_planes<S: Shader>(input: &BandInput<S>, kept: (&Basis, usize), r: &TriRec) -> Planes {
+    let (basis, k) = kept;
+    match S::VARYINGS {
+        0 => {
+            let (inv_w, a) = input.plane_values::<0>(r);
+            basis.planes(k, inv_w, a)
+        }
+        1..=4 => {
+            let (inv_w, a) = input.plane_values::<4>(r);
+            basis.planes(k, inv_w, a)
+        }
+        _ => {
+            let (inv_w, a) = input.plane_values::<8>(r);
+            basis.planes(k, inv_w, a)
+        }
+    }
+}
+
 /// [`visible_planes`] as one AVX2 task: the planes' f64 arithmetic four lanes wide.
 #[cfg(target_arch = "x86_64")]
 struct PlanesRun<'p, 'a, S: Shader> {
     input: &'p BandInput<'a, S>,
     b: usize,
-    owns: &'p [bool],
+    owns: (&'p [bool], &'p [Basis]),
     slot: &'p mut Vec<u32>,
     planes: &'p mut Vec<Planes>,
 }

@@ -379,9 +379,11 @@ fn interpolated_pixels_from_the_lanes_are_the_traversals_bit_for_bit() {
     }
 }
 
-#[test]
-fn a_small_triangles_planes_are_the_set_ups_bit_for_bit() {
-    let mut rng = Rng(99);
+/// The planes of small triangles from the lanes' basis over `L` lanes with `n` attributes,
+/// against [`Planes::set`]'s, bit for bit in every lane (the padding's zeros, of either sign,
+/// included), with and without perspective. Returns the triangles checked.
+fn planes_alike<const L: usize>(n: usize) -> usize {
+    let mut rng = Rng(99 + n as u64);
     let pos = triangles(&mut rng, 400);
     let mut checked = 0;
     for (t, tri) in pos.chunks_exact(3).enumerate() {
@@ -389,9 +391,9 @@ fn a_small_triangles_planes_are_the_set_ups_bit_for_bit() {
         for (j, v) in p.iter_mut().enumerate() {
             v.inv_w = 0.25 + (t * 3 + j) as f64 * 0.001;
         }
-        let a: [[f32; 4]; 3] = std::array::from_fn(|j| {
+        let a: [[f32; L]; 3] = std::array::from_fn(|j| {
             let v = |q: usize| ((t * 7 + j * 3 + q) % 23) as f32 / 7.0 - 1.5;
-            [v(0), v(1), v(2), 0.0]
+            std::array::from_fn(|q| if q < n { v(q) } else { 0.0 })
         });
         let recs = [TriRec {
             v: [0, 1, 2],
@@ -399,28 +401,50 @@ fn a_small_triangles_planes_are_the_set_ups_bit_for_bit() {
         }];
         let mut basis = Basis::new();
         let g = Group::set_planes(&recs, &p, WIDTH, BAND, &mut basis);
+        basis.keep(&g);
+        assert_eq!(basis.small(0), g.kind[0] == Kind::Small);
         if g.kind[0] != Kind::Small {
             continue;
         }
         let inv_w = [p[0].inv_w, p[1].inv_w, p[2].inv_w];
         for perspective in [true, false] {
-            let got = g.planes((&basis, 0), (inv_w, perspective), a);
-            let want = Planes::set(p, [&a[0][..3], &a[1][..3], &a[2][..3]], 3, perspective)
+            let inv_w = (inv_w, perspective && n > 0);
+            let want = Planes::set(p, [&a[0][..n], &a[1][..n], &a[2][..n]], n, perspective)
                 .expect("a small triangle has area");
-            assert_eq!(got.origin, want.origin);
-            assert_eq!(got.inv_w.map(f64::to_bits), want.inv_w.map(f64::to_bits));
-            for (x, y) in [
-                (got.attr0, want.attr0),
-                (got.attr_dx, want.attr_dx),
-                (got.attr_dy, want.attr_dy),
+            // From the group just set (gouraud's one pass) and from the kept basis (the
+            // by-pixel pass's).
+            for got in [
+                g.planes((&basis, 0), inv_w, a),
+                basis.planes::<L>(0, inv_w, a),
             ] {
-                let bits = |a: &Attrs| a[..4].iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-                assert_eq!(bits(&x), bits(&y), "triangle {t}");
+                assert_eq!(got.origin, want.origin);
+                assert_eq!(got.inv_w.map(f64::to_bits), want.inv_w.map(f64::to_bits));
+                for (x, y) in [
+                    (got.attr0, want.attr0),
+                    (got.attr_dx, want.attr_dx),
+                    (got.attr_dy, want.attr_dy),
+                ] {
+                    let bits = |a: &Attrs| a.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&x), bits(&y), "triangle {t}, {n} attributes");
+                }
             }
         }
         checked += 1;
     }
-    assert!(checked > 100, "{checked} small triangles");
+    checked
+}
+
+#[test]
+fn a_small_triangles_planes_are_the_set_ups_bit_for_bit() {
+    // As the set-up pads them: no lanes, four (gouraud's three attributes), eight (phong's
+    // six).
+    for checked in [
+        planes_alike::<0>(0),
+        planes_alike::<4>(3),
+        planes_alike::<8>(6),
+    ] {
+        assert!(checked > 100, "{checked} small triangles");
+    }
 }
 
 /// Rows written by `fill_in` with lanes `r`, a colour and an id per step, against writing
