@@ -490,16 +490,17 @@ fn visible_planes<S: Shader>(
             let owner = owns.get(k) == Some(&true);
             let by_pixel = owner && by_pixel(input, c, r);
             traced |= owner && !by_pixel;
-            // Its pixels are known: the planes alone.
-            let kept = bases
-                .get(at + i / LANES)
-                .filter(|basis| basis.small(i % LANES));
-            let set = match (by_pixel, kept) {
-                (false, _) => None,
-                (true, Some(basis)) => Some(kept_planes(input, (basis, i % LANES), r)),
-                (true, None) => input
-                    .vertices_of(r, c, n)
-                    .and_then(|(p, a)| Planes::set(p, a, n, input.perspective)),
+            // Its pixels are known: the planes alone, from the kept basis when it is small.
+            let set = if by_pixel {
+                let lane = i % LANES;
+                match bases.get(at + i / LANES).filter(|b| b.small(lane)) {
+                    Some(basis) => Some(kept_planes(input, (basis, lane), r)),
+                    None => input
+                        .vertices_of(r, c, n)
+                        .and_then(|(p, a)| Planes::set(p, a, n, input.perspective)),
+                }
+            } else {
+                None
             };
             slot.push(if set.is_some() {
                 planes.len() as u32
