@@ -274,7 +274,9 @@ fn nearest_rows<const K: usize>(depths: &[f32], stride: usize, lo: usize, depth:
         };
         for (d, samples) in depth.iter_mut().zip(row.chunks_exact(K)) {
             for &s in samples {
-                *d = d.min(s);
+                // The minimum as a select, which compiles to vector minimums (`f32::min`'s
+                // NaN rule did not); the same value for any sample, a NaN one included.
+                *d = if s < *d { s } else { *d };
             }
         }
     }
