@@ -12,7 +12,6 @@ use crate::batch::{AttrLanes, LaneShader, Pending, RowShader};
 use crate::clip::{Attrs, MAX_ATTRS};
 use crate::coverage::lanes;
 use crate::framebuffer::layer::LayerRows;
-use crate::multisample::{OneByOne, SameIds};
 use crate::shader::Shader;
 use crate::traverse::Planes;
 
@@ -74,44 +73,13 @@ impl ByPixel<'_> {
         layer: Option<&mut LayerRows<'_>>,
         (rows, lanes): (&RowShader<'_, 8>, &LaneShader<'_, 8>),
     ) -> u64 {
-        // The two walks are separate AVX2 functions: compiled into one, the one-sample
-        // walk's loop was allocated worse.
-        if self.multisampled() {
-            return avx2.run(BlockRun {
-                pass: self,
-                rows,
-                color,
-                layer,
-            });
-        }
         avx2.run(RowRun {
             pass: self,
             rows,
             lanes,
             color,
+            layer,
         })
-    }
-
-    /// Whether the band holds multisampled blocks ([`ByPixel::block`] 2 or 4).
-    #[cfg(target_arch = "x86_64")]
-    fn multisampled(&self) -> bool {
-        matches!(self.block, 2 | 4)
-    }
-
-    /// The multisampled walk ([`ByPixel::shade_blocks`]) of a band of `2 x 2` or `4 x 4`
-    /// blocks; `None` for a band of pixels.
-    #[inline(always)]
-    fn blocks<const N: usize>(
-        &self,
-        color: &mut [Vec3],
-        layer: Option<&mut LayerRows<'_>>,
-        rows: (&RowShader<'_, N>, impl SameIds),
-    ) -> Option<u64> {
-        match self.block {
-            2 => Some(self.shade_blocks::<N, 2, 4>(color, layer, rows)),
-            4 => Some(self.shade_blocks::<N, 4, 16>(color, layer, rows)),
-            _ => None,
-        }
     }
 
     /// [`ByPixel::shade`], inlined.
@@ -123,20 +91,11 @@ impl ByPixel<'_> {
         rows: &RowShader<'_, N>,
         shade: &LaneShader<'_, N>,
     ) -> u64 {
-        if let Some(shaded) = self.blocks(color, layer, (rows, OneByOne)) {
-            return shaded;
+        match self.block {
+            2 => return self.shade_blocks::<N, 2, 4>(color, layer, rows),
+            4 => return self.shade_blocks::<N, 4, 16>(color, layer, rows),
+            _ => {}
         }
-        self.shade_rows(color, rows, shade)
-    }
-
-    /// [`ByPixel::shade`] of a band of pixels, inlined.
-    #[inline(always)]
-    fn shade_rows<const N: usize>(
-        &self,
-        color: &mut [Vec3],
-        rows: &RowShader<'_, N>,
-        shade: &LaneShader<'_, N>,
-    ) -> u64 {
         // The lane count as a constant: the stepping and the divide compile to whole vectors.
         match (self.perspective, lanes(self.n)) {
             (true, 0) => self.run::<N, true, 0, _, _>(color, rows, shade),
@@ -166,19 +125,11 @@ impl ByPixel<'_> {
         F: Fn(&[Attrs; N], usize, f32) -> [Vec3; N],
         G: Fn(&AttrLanes, usize, f32) -> [Vec3; N],
     {
-        if let Some(shaded) = self.blocks(color, layer, (rows, OneByOne)) {
-            return shaded;
+        match self.block {
+            2 => return self.shade_blocks::<N, 2, 4>(color, layer, rows),
+            4 => return self.shade_blocks::<N, 4, 16>(color, layer, rows),
+            _ => {}
         }
-        self.wide_rows(color, (rows, shade))
-    }
-
-    /// [`ByPixel::shade_wide`] of a band of pixels, inlined.
-    #[inline(always)]
-    fn wide_rows<const N: usize, F, G>(&self, color: &mut [Vec3], (rows, shade): (&F, &G)) -> u64
-    where
-        F: Fn(&[Attrs; N], usize, f32) -> [Vec3; N],
-        G: Fn(&AttrLanes, usize, f32) -> [Vec3; N],
-    {
         if self.perspective {
             self.run::<N, true, MAX_ATTRS, F, G>(color, rows, shade)
         } else {
@@ -198,20 +149,11 @@ impl ByPixel<'_> {
         color: &mut [Vec3],
         layer: Option<&mut LayerRows<'_>>,
     ) -> u64 {
-        if self.multisampled() {
-            let wide = crate::batch::Wide { avx2: Some(avx2) };
-            let rows = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
-            return avx2.run(BlockRun {
-                pass: self,
-                rows: &rows,
-                color,
-                layer,
-            });
-        }
         avx2.run(WideRun {
             pass: self,
             shader,
             color,
+            layer,
         })
     }
 
@@ -462,62 +404,44 @@ impl ByPixel<'_> {
     }
 }
 
-/// [`ByPixel::shade_wide_avx2`]'s loop of a band of pixels as one AVX2 task.
+/// [`ByPixel::shade_wide_avx2`]'s loop as one AVX2 task.
 #[cfg(target_arch = "x86_64")]
-struct WideRun<'p, 'a, S> {
+struct WideRun<'p, 'a, 'l, S> {
     pass: &'p ByPixel<'a>,
     shader: &'p S,
     color: &'p mut [Vec3],
+    layer: Option<&'p mut LayerRows<'l>>,
 }
 
 #[cfg(target_arch = "x86_64")]
-impl<S: Shader> phosphor_lighting::Avx2Task for WideRun<'_, '_, S> {
+impl<S: Shader> phosphor_lighting::Avx2Task for WideRun<'_, '_, '_, S> {
     type Output = u64;
     #[inline(always)]
     fn run(self, s: phosphor_lighting::Avx2) -> u64 {
         let (shader, wide) = (self.shader, crate::batch::Wide { avx2: Some(s) });
         let rows = |a: &[Attrs; 8], count, ceiling| wide.shade8(shader, a, count, ceiling);
         let lanes = |a: &AttrLanes, count, ceiling| wide.shade8(shader, a, count, ceiling);
-        self.pass.wide_rows::<8, _, _>(self.color, (&rows, &lanes))
+        self.pass
+            .shade_wide::<8, _, _>(self.color, self.layer, (&rows, &lanes))
     }
 }
 
-/// [`ByPixel::shade_avx2`]'s loop of a band of pixels as one AVX2 task.
+/// [`ByPixel::shade_avx2`]'s loop as one AVX2 task.
 #[cfg(target_arch = "x86_64")]
-struct RowRun<'p, 'a, 's> {
+struct RowRun<'p, 'a, 's, 'l> {
     pass: &'p ByPixel<'a>,
     rows: &'p RowShader<'s, 8>,
     lanes: &'p LaneShader<'s, 8>,
-    color: &'p mut [Vec3],
-}
-
-#[cfg(target_arch = "x86_64")]
-impl phosphor_lighting::Avx2Task for RowRun<'_, '_, '_> {
-    type Output = u64;
-    #[inline(always)]
-    fn run(self, _: phosphor_lighting::Avx2) -> u64 {
-        self.pass.shade_rows(self.color, self.rows, self.lanes)
-    }
-}
-
-/// The multisampled walk of [`ByPixel::shade_avx2`] and [`ByPixel::shade_wide_avx2`] as one
-/// AVX2 task, apart from the one-sample walk's.
-#[cfg(target_arch = "x86_64")]
-struct BlockRun<'p, 'a, 's, 'l> {
-    pass: &'p ByPixel<'a>,
-    rows: &'p RowShader<'s, 8>,
     color: &'p mut [Vec3],
     layer: Option<&'p mut LayerRows<'l>>,
 }
 
 #[cfg(target_arch = "x86_64")]
-impl phosphor_lighting::Avx2Task for BlockRun<'_, '_, '_, '_> {
+impl phosphor_lighting::Avx2Task for RowRun<'_, '_, '_, '_> {
     type Output = u64;
     #[inline(always)]
-    fn run(self, avx2: phosphor_lighting::Avx2) -> u64 {
-        // Only built for a multisampled band, for which `blocks` is `Some`.
+    fn run(self, _: phosphor_lighting::Avx2) -> u64 {
         self.pass
-            .blocks(self.color, self.layer, (self.rows, avx2.v3()))
-            .unwrap_or(0)
+            .shade_impl(self.color, self.layer, self.rows, self.lanes)
     }
 }

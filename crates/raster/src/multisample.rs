@@ -16,14 +16,11 @@ use crate::traverse::planes_at;
 
 impl ByPixel<'_> {
     /// [`ByPixel::shade`] of a multisampled band, `K x K` samples per pixel (`S` = `K * K`).
-    /// Inlined, so that in an AVX2 frame the walk is compiled as AVX2 code, as the
-    /// one-sample walk is.
-    #[inline(always)]
     pub(crate) fn shade_blocks<const N: usize, const K: usize, const S: usize>(
         &self,
         color: &mut [Vec3],
         layer: Option<&mut LayerRows<'_>>,
-        (shade, same): (&RowShader<'_, N>, impl SameIds),
+        shade: &RowShader<'_, N>,
     ) -> u64 {
         let mut out = BlockOut {
             samples: color,
@@ -32,14 +29,14 @@ impl ByPixel<'_> {
         };
         let out = &mut out;
         match (self.perspective, lanes(self.n)) {
-            (true, 0) => self.run_blocks::<N, true, 0, K, S>(out, (shade, same)),
-            (true, 4) => self.run_blocks::<N, true, 4, K, S>(out, (shade, same)),
-            (true, 8) => self.run_blocks::<N, true, 8, K, S>(out, (shade, same)),
-            (true, _) => self.run_blocks::<N, true, MAX_ATTRS, K, S>(out, (shade, same)),
-            (false, 0) => self.run_blocks::<N, false, 0, K, S>(out, (shade, same)),
-            (false, 4) => self.run_blocks::<N, false, 4, K, S>(out, (shade, same)),
-            (false, 8) => self.run_blocks::<N, false, 8, K, S>(out, (shade, same)),
-            (false, _) => self.run_blocks::<N, false, MAX_ATTRS, K, S>(out, (shade, same)),
+            (true, 0) => self.run_blocks::<N, true, 0, K, S>(out, shade),
+            (true, 4) => self.run_blocks::<N, true, 4, K, S>(out, shade),
+            (true, 8) => self.run_blocks::<N, true, 8, K, S>(out, shade),
+            (true, _) => self.run_blocks::<N, true, MAX_ATTRS, K, S>(out, shade),
+            (false, 0) => self.run_blocks::<N, false, 0, K, S>(out, shade),
+            (false, 4) => self.run_blocks::<N, false, 4, K, S>(out, shade),
+            (false, 8) => self.run_blocks::<N, false, 8, K, S>(out, shade),
+            (false, _) => self.run_blocks::<N, false, MAX_ATTRS, K, S>(out, shade),
         }
     }
 
@@ -82,7 +79,7 @@ impl ByPixel<'_> {
     >(
         &self,
         out: &mut BlockOut,
-        (shade4, same): (&RowShader<'_, N>, impl SameIds),
+        shade4: &RowShader<'_, N>,
     ) -> u64 {
         let kf = K as f64;
         let width = self.width as usize;
@@ -146,8 +143,12 @@ impl ByPixel<'_> {
                 while left != 0 {
                     let first = left.trailing_zeros() as usize;
                     let id = ids[first];
-                    // Every sample of `id` is still left: an earlier triangle took only its own.
-                    let mask = same.mask(&ids, id);
+                    let mut mask = 0u16;
+                    for (j, &other) in ids.iter().enumerate().skip(first) {
+                        if other == id {
+                            mask |= 1 << j;
+                        }
+                    }
                     left &= !mask;
                     let Some(p) = self.planes_of(id) else {
                         keep |= mask;
@@ -179,50 +180,6 @@ impl ByPixel<'_> {
             ids[sy * K..(sy + 1) * K].copy_from_slice(self.ids.get(row..row + K)?);
         }
         Some(ids)
-    }
-}
-
-/// How the samples of a block that show one id are found: one by one, or four at a time in
-/// an AVX2 frame (`pulp`'s token), where one compare and one move replace the sixteen or so
-/// instructions of four scalar compares.
-pub(crate) trait SameIds: Copy {
-    /// The samples of a block (bit `j` for `ids[j]`, `S <= 16`) whose id is `id`.
-    fn mask<const S: usize>(self, ids: &[u64; S], id: u64) -> u16;
-}
-
-/// [`SameIds`] one sample at a time.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct OneByOne;
-
-impl SameIds for OneByOne {
-    #[inline(always)]
-    fn mask<const S: usize>(self, ids: &[u64; S], id: u64) -> u16 {
-        let mut mask = 0u16;
-        for (j, &other) in ids.iter().enumerate() {
-            mask |= u16::from(other == id) << j;
-        }
-        mask
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-impl SameIds for pulp::x86::V3 {
-    #[inline(always)]
-    fn mask<const S: usize>(self, ids: &[u64; S], id: u64) -> u16 {
-        let wanted = self.avx._mm256_set1_epi64x(id as i64);
-        let mut mask = 0u16;
-        let mut quads = ids.chunks_exact(4);
-        for (q, four) in quads.by_ref().enumerate() {
-            let four: [u64; 4] = std::array::from_fn(|j| four[j]);
-            let same = self.avx2._mm256_cmpeq_epi64(pulp::cast(four), wanted);
-            let bits = self.avx._mm256_movemask_pd(pulp::cast(same)) as u16;
-            mask |= bits << (4 * q);
-        }
-        let done = S - quads.remainder().len();
-        for (j, &other) in quads.remainder().iter().enumerate() {
-            mask |= u16::from(other == id) << (done + j);
-        }
-        mask
     }
 }
 
@@ -327,8 +284,8 @@ impl BlockOut<'_, '_> {
 }
 
 /// Writes `c` to the samples in `mask` (bit `sy * K + sx`) of the `K x K` block whose first
-/// sample is `base`, in rows `width` samples long: one bounds check per row of the block
-/// that takes any, none for an empty mask.
+/// sample is `base`, in rows `width` samples long: one step per sample in the mask, none for
+/// an empty one.
 #[inline(always)]
 fn write_masked<const K: usize>(
     samples: &mut [Vec3],
@@ -337,18 +294,12 @@ fn write_masked<const K: usize>(
     mask: u16,
     c: Vec3,
 ) {
-    for sy in 0..K {
-        let bits = (mask >> (sy * K)) & ((1 << K) - 1);
-        let at = base + sy * width;
-        if bits == 0 {
-            continue;
-        }
-        if let Some(row) = samples.get_mut(at..at + K) {
-            for (sx, s) in row.iter_mut().enumerate() {
-                if bits & (1 << sx) != 0 {
-                    *s = c;
-                }
-            }
+    let mut left = mask;
+    while left != 0 {
+        let j = left.trailing_zeros() as usize;
+        left &= left - 1;
+        if let Some(p) = samples.get_mut(base + (j / K) * width + j % K) {
+            *p = c;
         }
     }
 }
@@ -356,45 +307,6 @@ fn write_masked<const K: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The samples showing `id`, bit by bit, through `same`, checked against a plain compare.
-    fn check_same<const S: usize>(same: impl SameIds, ids: &[u64; S], id: u64) {
-        let mask = same.mask(ids, id);
-        for (j, &other) in ids.iter().enumerate() {
-            assert_eq!(
-                mask >> j & 1 == 1,
-                other == id,
-                "sample {j} of {ids:?}, id {id}"
-            );
-        }
-        assert_eq!(u32::from(mask) >> S, 0, "bits past the block in {mask:b}");
-    }
-
-    #[test]
-    fn samples_of_one_id_are_found_alike_in_lanes_and_one_by_one() {
-        // Few distinct ids (and ones differing only in the high half), so that most masks
-        // hold several bits.
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % 3) + ((seed >> 8) % 2 << 32)
-        };
-        for _ in 0..300 {
-            let four: [u64; 4] = std::array::from_fn(|_| next());
-            let sixteen: [u64; 16] = std::array::from_fn(|_| next());
-            for id in [four[0], four[3], sixteen[5], 1 << 40] {
-                check_same(OneByOne, &four, id);
-                check_same(OneByOne, &sixteen, id);
-                #[cfg(target_arch = "x86_64")]
-                if let Some(v3) = pulp::x86::V3::try_new() {
-                    check_same(v3, &four, id);
-                    check_same(v3, &sixteen, id);
-                }
-            }
-        }
-    }
 
     #[test]
     fn centroids_are_the_mean_of_the_sample_centres() {
