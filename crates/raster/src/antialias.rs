@@ -274,8 +274,9 @@ fn nearest_rows<const K: usize>(depths: &[f32], stride: usize, lo: usize, depth:
         };
         for (d, samples) in depth.iter_mut().zip(row.chunks_exact(K)) {
             for &s in samples {
-                // The minimum as a select, which compiles to vector minimums (`f32::min`'s
-                // NaN rule did not); the same value for any sample, a NaN one included.
+                // The minimum as a select: one vector minimum per four pixels, where
+                // `f32::min`'s NaN rule added a NaN test and a blend to each. A NaN sample
+                // is skipped either way.
                 *d = if s < *d { s } else { *d };
             }
         }
