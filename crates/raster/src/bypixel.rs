@@ -48,6 +48,10 @@ pub(crate) struct ByPixel<'a> {
     pub block: usize,
     /// The framebuffer's largest intensity, that every colour is clamped to.
     pub ceiling: f32,
+    /// For a band of `2 x 2` blocks, per block the id its four samples share
+    /// ([`crate::multisample::mark_blocks`]); empty otherwise, and the walk reads the
+    /// samples' ids.
+    pub whole: &'a [u64],
 }
 
 impl ByPixel<'_> {

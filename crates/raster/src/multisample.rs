@@ -42,26 +42,7 @@ impl ByPixel<'_> {
 
     /// The columns of blocks in block row `by` that the depth pass wrote in any of its rows.
     fn block_columns<const K: usize>(&self, by: usize) -> std::ops::Range<usize> {
-        let width = self.width as usize;
-        let rows = self
-            .extents
-            .get(by * K..((by + 1) * K).min(self.extents.len()));
-        let (lo, hi) = rows
-            .unwrap_or(&[])
-            .iter()
-            .fold((usize::MAX, 0), |(lo, hi), &(l, h)| {
-                let h = (h as usize).min(width);
-                if (l as usize) < h {
-                    (lo.min(l as usize), hi.max(h))
-                } else {
-                    (lo, hi)
-                }
-            });
-        if lo >= hi {
-            0..0
-        } else {
-            lo / K..hi.div_ceil(K)
-        }
+        block_columns::<K>(self.extents, self.width as usize, by)
     }
 
     /// [`ByPixel::shade`] once per `K x K` block and triangle: a block whose samples all show
@@ -93,14 +74,25 @@ impl ByPixel<'_> {
             let (mut run, mut next) = (u64::MAX, usize::MAX);
             let (mut inv_w, mut attrs) = (1.0f64, [0.0f32; MAX_ATTRS]);
             let (mut step_w, mut step) = (0.0f64, [0.0f32; MAX_ATTRS]);
+            // The ids of the block being walked, where `whole` does not give one for all.
+            let mut ids = [u64::MAX; S];
             for bx in self.block_columns::<K>(by) {
                 let base = by * K * width + bx * K;
                 let pixel = by * pixels + bx;
-                let Some(ids) = self.block_ids::<K, S>(base) else {
-                    continue;
+                // The id every sample of the block shows (`whole`'s, or the samples'), or
+                // none, and then the samples' ids are in `ids`.
+                let shared = match self.whole.get(pixel) {
+                    Some(&id) if id != SPLIT_BLOCK => Some(id),
+                    _ => {
+                        let Some(read) = self.block_ids::<K, S>(base) else {
+                            continue;
+                        };
+                        ids = read;
+                        ids[1..].iter().all(|&id| id == ids[0]).then_some(ids[0])
+                    }
                 };
-                if ids[1..].iter().all(|&id| id == ids[0]) {
-                    if ids[0] == run && bx == next {
+                if let Some(id) = shared {
+                    if id == run && bx == next {
                         if PERSPECTIVE {
                             inv_w += step_w;
                         }
@@ -108,7 +100,7 @@ impl ByPixel<'_> {
                             attrs[j] += step[j];
                         }
                     } else {
-                        let Some(p) = self.planes_of(ids[0]) else {
+                        let Some(p) = self.planes_of(id) else {
                             continue;
                         };
                         let o = (
@@ -121,7 +113,7 @@ impl ByPixel<'_> {
                         for j in 0..L {
                             step[j] = (kf * f64::from(p.attr_dx[j])) as f32;
                         }
-                        run = ids[0];
+                        run = id;
                     }
                     next = bx + 1;
                     let w = if PERSPECTIVE {
@@ -180,6 +172,183 @@ impl ByPixel<'_> {
             ids[sy * K..(sy + 1) * K].copy_from_slice(self.ids.get(row..row + K)?);
         }
         Some(ids)
+    }
+}
+
+/// The columns of `K x K` blocks in block row `by` that the depth pass wrote in any of its
+/// rows (`extents` per sample row, rows `width` samples long).
+fn block_columns<const K: usize>(
+    extents: &[(u32, u32)],
+    width: usize,
+    by: usize,
+) -> std::ops::Range<usize> {
+    let rows = extents.get(by * K..((by + 1) * K).min(extents.len()));
+    let (lo, hi) = rows
+        .unwrap_or(&[])
+        .iter()
+        .fold((usize::MAX, 0), |(lo, hi), &(l, h)| {
+            let h = (h as usize).min(width);
+            if (l as usize) < h {
+                (lo.min(l as usize), hi.max(h))
+            } else {
+                (lo, hi)
+            }
+        });
+    if lo >= hi {
+        0..0
+    } else {
+        lo / K..hi.div_ceil(K)
+    }
+}
+
+/// In [`mark_blocks`]' `whole`: the block's four samples do not all show one id (or all show
+/// this one, which no triangle has; the walk then reads them again).
+pub(crate) const SPLIT_BLOCK: u64 = u64::MAX;
+
+/// The ids of a band of `2 x 2` blocks read once, after the depth pass: `owns[k]` is set for
+/// every record `k` (id `epoch + k`) that some sample shows, as `mark_owners` does for any
+/// band, and `whole[by * (width / 2) + bx]` is the id all four samples of block `(bx, by)`
+/// show, or [`SPLIT_BLOCK`]. Written only for the blocks that the walk visits (those of
+/// `block_columns`); the rest of `whole` keeps what it held. The walk then reads one id
+/// for a block inside a triangle, most of them, and its four samples' ids only on an edge.
+/// Two blocks are compared at a time, in lanes where the CPU has AVX2; either way the same.
+///
+/// A block's columns may reach past what the depth pass wrote in one of its two rows: the ids
+/// there were left by earlier bands, below the epoch, so no record is marked for them.
+pub(crate) fn mark_blocks(
+    ids: &[u64],
+    (extents, width): (&[(u32, u32)], usize),
+    epoch: u64,
+    owns: &mut [bool],
+    (whole, avx2): (&mut Vec<u64>, Option<crate::simd::Avx2>),
+) {
+    let pixels = width / 2;
+    let rows = extents.len() / 2;
+    if whole.len() < rows * pixels {
+        whole.resize(rows * pixels, SPLIT_BLOCK);
+    }
+    let band = BlockIds {
+        ids,
+        extents,
+        width,
+        epoch,
+    };
+    #[cfg(target_arch = "x86_64")]
+    if let Some(avx2) = avx2 {
+        return avx2.run(MarkBlocksRun { band, owns, whole });
+    }
+    let _ = avx2;
+    band.mark(owns, whole, same_pairs);
+}
+
+/// A band's sample ids, as [`mark_blocks`] reads them.
+#[derive(Clone, Copy)]
+struct BlockIds<'a> {
+    ids: &'a [u64],
+    extents: &'a [(u32, u32)],
+    width: usize,
+    epoch: u64,
+}
+
+impl BlockIds<'_> {
+    /// [`mark_blocks`] with `same(top, bottom)`: for two blocks side by side, their top and
+    /// bottom sample rows, bit `j` set where block `j`'s four samples show one id.
+    #[inline(always)]
+    fn mark(self, owns: &mut [bool], whole: &mut [u64], same: impl Fn([u64; 4], [u64; 4]) -> u32) {
+        let (width, epoch) = (self.width, self.epoch);
+        let mut mark = |id: u64| {
+            if let Some(o) = id.checked_sub(epoch).and_then(|k| owns.get_mut(k as usize)) {
+                *o = true;
+            }
+        };
+        let pixels = width / 2;
+        for by in 0..self.extents.len() / 2 {
+            let cols = block_columns::<2>(self.extents, width, by);
+            let Some(out) = whole.get_mut(by * pixels + cols.start..by * pixels + cols.end) else {
+                continue;
+            };
+            let top = 2 * by * width + 2 * cols.start;
+            let samples = 2 * out.len();
+            let (Some(r0), Some(r1)) = (
+                self.ids.get(top..top + samples),
+                self.ids.get(top + width..top + width + samples),
+            ) else {
+                out.fill(SPLIT_BLOCK);
+                continue;
+            };
+            let mut last = SPLIT_BLOCK;
+            let mut pair = |a: [u64; 4], b: [u64; 4], w: &mut [u64], bits: u32| {
+                for (j, w) in w.iter_mut().enumerate() {
+                    if bits >> j & 1 != 0 {
+                        let id = a[2 * j];
+                        *w = id;
+                        if id != last {
+                            mark(id);
+                            last = id;
+                        }
+                    } else {
+                        *w = SPLIT_BLOCK;
+                        for id in [a[2 * j], a[2 * j + 1], b[2 * j], b[2 * j + 1]] {
+                            mark(id);
+                        }
+                        last = SPLIT_BLOCK;
+                    }
+                }
+            };
+            let (mut r0s, mut r1s) = (r0.chunks_exact(4), r1.chunks_exact(4));
+            let mut outs = out.chunks_exact_mut(2);
+            for ((a, b), w) in r0s.by_ref().zip(r1s.by_ref()).zip(outs.by_ref()) {
+                let (a, b) = (four(a), four(b));
+                pair(a, b, w, same(a, b));
+            }
+            // An odd block at the end, compared beside a copy of itself.
+            if let ([a0, a1], [b0, b1], w) =
+                (r0s.remainder(), r1s.remainder(), outs.into_remainder())
+            {
+                let (a, b) = ([*a0, *a1, *a0, *a1], [*b0, *b1, *b0, *b1]);
+                pair(a, b, w, same(a, b));
+            }
+        }
+    }
+}
+
+/// Four ids from a slice of exactly four.
+#[inline(always)]
+fn four(ids: &[u64]) -> [u64; 4] {
+    std::array::from_fn(|j| ids[j])
+}
+
+/// [`BlockIds::mark`]'s comparison one id at a time.
+#[inline(always)]
+fn same_pairs(a: [u64; 4], b: [u64; 4]) -> u32 {
+    let one = |j: usize| a[j] == a[j + 1] && a[j] == b[j] && a[j + 1] == b[j + 1];
+    u32::from(one(0)) | u32::from(one(2)) << 1
+}
+
+/// [`mark_blocks`]' loop as one AVX2 task, the ids compared four at a time.
+#[cfg(target_arch = "x86_64")]
+struct MarkBlocksRun<'a> {
+    band: BlockIds<'a>,
+    owns: &'a mut [bool],
+    whole: &'a mut [u64],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl phosphor_lighting::Avx2Task for MarkBlocksRun<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run(self, avx2: phosphor_lighting::Avx2) {
+        let v = avx2.v3();
+        self.band.mark(self.owns, self.whole, |a, b| {
+            let a: std::arch::x86_64::__m256i = pulp::cast(a);
+            // Each sample against the one below it and the one beside it.
+            let below = v.avx2._mm256_cmpeq_epi64(a, pulp::cast(b));
+            let beside = v.avx._mm256_permute_pd::<0b0101>(pulp::cast(a));
+            let beside = v.avx2._mm256_cmpeq_epi64(a, pulp::cast(beside));
+            let both = v.avx2._mm256_and_si256(below, beside);
+            let m = v.avx._mm256_movemask_pd(pulp::cast(both)) as u32;
+            u32::from(m & 3 == 3) | u32::from(m >> 2 == 3) << 1
+        });
     }
 }
 
@@ -307,6 +476,78 @@ fn write_masked<const K: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn blocks_marked_in_one_read_agree_with_their_samples() {
+        // A band of 6 sample rows, 12 wide: ids of this band (epoch + 0..5) and ones left by
+        // earlier bands (below the epoch), with extents that differ between a block's rows.
+        let (width, epoch) = (12usize, 7u64 << 32);
+        let mut seed = 12345u32;
+        let mut pick = |n: u32| {
+            seed = seed.wrapping_mul(1_103_515_245).wrapping_add(12345);
+            (seed >> 16) % n
+        };
+        // Per block one id, and one sample in four (about) another.
+        let block: Vec<u32> = (0..18).map(|_| pick(5)).collect();
+        let ids: Vec<u64> = (0..6 * width)
+            .map(|i| {
+                let b = block[(i / width / 2) * 6 + (i % width) / 2];
+                let v = if pick(4) == 0 { pick(5) } else { b };
+                match v {
+                    0..=2 => epoch + u64::from(v),
+                    3 => 3,
+                    _ => u64::MAX,
+                }
+            })
+            .collect();
+        let extents = [(0, 12), (2, 9), (5, 5), (u32::MAX, 0), (1, 3), (7, 12)];
+        for avx2 in [None, crate::simd::SimdLevel::Avx2.token()] {
+            let mut owns = vec![false; 6];
+            // Whatever `whole` held before stays outside the visited blocks.
+            let mut whole = vec![42u64; 18];
+            mark_blocks(
+                &ids,
+                (&extents, width),
+                epoch,
+                &mut owns,
+                (&mut whole, avx2),
+            );
+            check_blocks(&ids, &extents, epoch, &owns, &whole);
+        }
+    }
+
+    /// [`mark_blocks`]' `owns` and `whole` against the ids, one by one.
+    fn check_blocks(ids: &[u64], extents: &[(u32, u32)], epoch: u64, owns: &[bool], whole: &[u64]) {
+        let width = 12;
+        let mut seen = vec![false; 6];
+        for (row, &(lo, hi)) in extents.iter().enumerate() {
+            for x in lo as usize..(hi as usize).min(width) {
+                let id = ids[row * width + x];
+                if id >= epoch && id - epoch < 6 {
+                    seen[(id - epoch) as usize] = true;
+                }
+            }
+        }
+        assert_eq!(owns, seen);
+        for by in 0..3 {
+            let cols = block_columns::<2>(extents, width, by);
+            for bx in 0..6 {
+                let at = 2 * by * width + 2 * bx;
+                let four = [ids[at], ids[at + 1], ids[at + width], ids[at + width + 1]];
+                let got = whole[by * 6 + bx];
+                if !cols.contains(&bx) {
+                    assert_eq!(got, 42, "block ({bx}, {by}) is not visited");
+                } else if four.iter().all(|&id| id == four[0]) {
+                    assert_eq!(got, four[0], "block ({bx}, {by}): {four:?}");
+                } else {
+                    assert_eq!(got, SPLIT_BLOCK, "block ({bx}, {by}): {four:?}");
+                }
+            }
+        }
+        // Some block of each kind, so that the checks above test both.
+        let shared = whole.iter().filter(|&&w| w != 42 && w != SPLIT_BLOCK);
+        assert!(shared.count() > 0 && whole.contains(&SPLIT_BLOCK));
+    }
 
     #[test]
     fn centroids_are_the_mean_of_the_sample_centres() {

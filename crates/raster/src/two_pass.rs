@@ -14,6 +14,7 @@ use crate::clip::Attrs;
 use crate::coverage::{BandTarget, Pass, depth_only, lanes};
 use crate::framebuffer::layer::LayerRows;
 use crate::group::{Basis, Group, Kind, LANES, Marks, Portable, RowLanes};
+use crate::multisample::mark_blocks;
 use crate::records::{AHEAD, BandInput};
 use crate::setup::RasterTri;
 use crate::shader::{Face, Shader, interpolated};
@@ -38,6 +39,11 @@ struct Scratch {
     bases: Vec<Basis>,
     /// How many of `bases` the depth pass set for this band.
     kept: usize,
+    /// For a band of `2 x 2` blocks, the id each block's samples share
+    /// ([`crate::multisample::mark_blocks`]); reused from band to band.
+    whole: Vec<u64>,
+    /// Whether `whole` is this band's.
+    blocks: bool,
 }
 
 /// Ids of the depth pass: a fresh epoch per band job in the high bits, so ids left in a
@@ -55,6 +61,8 @@ thread_local! {
             planes: Vec::new(),
             bases: Vec::new(),
             kept: 0,
+            whole: Vec::new(),
+            blocks: false,
         })
     };
 }
@@ -99,7 +107,16 @@ fn two_pass<'s, S: Shader>(
     let (records, groups) = depth_pass(input, b, &mut target, (ids, extents, bases), epoch);
     scratch.kept = groups;
     let (rows, avx2) = ((&extents[..], width), input.wide.avx2);
-    mark_owners(ids, rows, epoch, records, &mut scratch.owns, avx2);
+    // A band of 2 x 2 blocks also notes which blocks one triangle covers, for its walk.
+    scratch.blocks = block == 2 && extents.len() % 2 == 0;
+    if scratch.blocks {
+        let owns = &mut scratch.owns;
+        owns.clear();
+        owns.resize(records, false);
+        mark_blocks(ids, rows, epoch, owns, (&mut scratch.whole, avx2));
+    } else {
+        mark_owners(ids, rows, epoch, records, &mut scratch.owns, avx2);
+    }
     // Only the depth pass writes outside the pixels it recorded (the shading passes write
     // where it did).
     for (d, e) in dirty.iter_mut().zip(scratch.extents.iter()) {
@@ -159,6 +176,8 @@ fn by_pixel_pass<S: Shader>(
         planes,
         bases,
         kept,
+        whole,
+        blocks,
     } = scratch;
     let bases = bases.get(..*kept).unwrap_or(&[]);
     #[cfg(target_arch = "x86_64")]
@@ -186,6 +205,7 @@ fn by_pixel_pass<S: Shader>(
         perspective: input.perspective && S::VARYINGS > 0,
         block: block as usize,
         ceiling: input.ceiling,
+        whole: if *blocks { whole } else { &[] },
     };
     let shader = input.shader;
     // More than eight attributes: a loop compiled for this shader (`ByPixel::shade_wide`).

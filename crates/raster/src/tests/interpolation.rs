@@ -144,6 +144,7 @@ fn by_pixel_shading_reproduces_the_closed_form_of_the_nearest_triangle() {
         perspective: false,
         block: 1,
         ceiling: 1.0,
+        whole: &[],
     };
     let rows = |a: &[Attrs; 4], _, _| a.map(|a| Vec3::splat(a[0]));
     let lanes = |a: &AttrLanes, _, _| std::array::from_fn(|i| Vec3::splat(a[0][i]));
