@@ -135,12 +135,12 @@ impl ByPixel<'_> {
                 while left != 0 {
                     let first = left.trailing_zeros() as usize;
                     let id = ids[first];
-                    let mut mask = 0u16;
-                    for (j, &other) in ids.iter().enumerate().skip(first) {
-                        if other == id {
-                            mask |= 1 << j;
-                        }
-                    }
+                    // Every sample of `id` is still left (an earlier id took only its own),
+                    // so all of them are compared, without a branch per sample.
+                    let mask = ids
+                        .iter()
+                        .enumerate()
+                        .fold(0u16, |m, (j, &other)| m | u16::from(other == id) << j);
                     left &= !mask;
                     let Some(p) = self.planes_of(id) else {
                         keep |= mask;
