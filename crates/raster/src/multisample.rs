@@ -256,11 +256,7 @@ impl BlockIds<'_> {
     #[inline(always)]
     fn mark(self, owns: &mut [bool], whole: &mut [u64], same: impl Fn([u64; 4], [u64; 4]) -> u32) {
         let (width, epoch) = (self.width, self.epoch);
-        let mut mark = |id: u64| {
-            if let Some(o) = id.checked_sub(epoch).and_then(|k| owns.get_mut(k as usize)) {
-                *o = true;
-            }
-        };
+        let mut mark = |id: u64| crate::two_pass::mark(owns, id, epoch);
         let pixels = width / 2;
         for by in 0..self.extents.len() / 2 {
             let cols = block_columns::<2>(self.extents, width, by);

@@ -433,7 +433,7 @@ fn mark_rows<F>(
 /// Marks the record whose id is `id`, if it is one of this band's (ids below the epoch were
 /// left by earlier bands).
 #[inline(always)]
-fn mark(owns: &mut [bool], id: u64, epoch: u64) {
+pub(crate) fn mark(owns: &mut [bool], id: u64, epoch: u64) {
     if let Some(o) = id.checked_sub(epoch).and_then(|k| owns.get_mut(k as usize)) {
         *o = true;
     }
