@@ -145,34 +145,17 @@ impl FromStr for Antialias {
 /// # Panics
 /// If the sizes do not match (a caller's bug, not an input error).
 pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, threads: usize) {
-    assert!(
-        samples.width() == out.width() * k && samples.height() == out.height() * k,
-        "sample image is not {k} times the output"
-    );
-    let width = out.width() as usize;
-    let k = k as usize;
-    let full = (0, width as u32);
-    // Per output row: the columns over drawn samples (all of them when no clear is known).
-    let clean = samples.clean;
+    let rule = ResolveRule::new(samples, out, k);
+    let width = rule.width;
     let drawn: Vec<(u32, u32)> = samples
         .dirty
-        .chunks(k)
-        .map(|rows| {
-            if clean.is_none() {
-                return full;
-            }
-            match columns_over(rows, k, width) {
-                (lo, hi) if lo < hi => (lo as u32, hi as u32),
-                _ => CLEAN_ROW,
-            }
-        })
+        .chunks(rule.k)
+        .map(|r| rule.drawn(r))
         .collect();
     // Per output row: the columns that may not hold `clean` now.
-    let stale: Vec<(u32, u32)> = match clean {
-        Some(bg) if same_color(out.clean, bg) && out.pending_clear.is_none() => out.dirty.clone(),
-        _ => vec![full; out.height() as usize],
-    };
+    let stale: Vec<(u32, u32)> = out.dirty.iter().map(|&d| rule.stale(d)).collect();
     let rows_per_task = 16;
+    let samples_of = SampleRows::of(samples, rule.k);
     crate::parallel::for_each_chunk_pair(
         threads,
         &mut out.color,
@@ -186,44 +169,169 @@ pub(crate) fn resolve(samples: &Framebuffer, out: &mut Framebuffer, k: u32, thre
                 .enumerate()
             {
                 let y = y0 + dy;
-                let (lo, hi) = drawn[y];
-                let (lo, hi) = (lo as usize, (hi as usize).max(lo as usize));
-                if let Some(bg) = clean {
-                    let (slo, shi) = (stale[y].0 as usize, (stale[y].1 as usize).min(width));
-                    for (a, b) in [(slo, shi.min(lo)), (slo.max(hi), shi)] {
-                        if a < b {
-                            fill_rows(&mut color[a..b], &mut depth[a..b], bg);
-                        }
-                    }
-                }
-                if lo < hi {
-                    let rows = &samples.color[y * k * width * k..(y + 1) * k * width * k];
-                    let depths = &samples.depth[y * k * width * k..(y + 1) * k * width * k];
-                    // The pixel layer's row, when the image has one of `k x k` samples.
-                    let layer = samples.layer.as_ref().filter(|l| l.k == k).map(|l| {
-                        let at = y * width..(y + 1) * width;
-                        (&l.color[at.clone()], &l.split[at])
-                    });
-                    let (color, depth) = (&mut color[lo..hi], &mut depth[lo..hi]);
-                    let src = (rows, depths, layer);
-                    match k {
-                        2 => resolve_row::<2>(src, width, lo, color, depth),
-                        4 => resolve_row::<4>(src, width, lo, color, depth),
-                        _ => resolve_row::<1>(src, width, lo, color, depth),
-                    }
-                }
+                rule.row((drawn[y], stale[y]), samples_of.row(y), (color, depth));
             }
         },
     );
-    out.clean = clean;
-    out.pending_clear = None;
-    out.overlay = None;
+    rule.finish(out);
     out.dirty = drawn;
+}
+
+/// The resolve of one frame, row by row: what [`resolve`] does over the whole image, and a
+/// band's draw over its own rows while their samples are still in cache (then the frame's
+/// end has nothing left to resolve). Either way each output row gets the same values.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct ResolveRule {
+    /// Samples per pixel side.
+    pub k: usize,
+    /// Output pixels per row.
+    pub width: usize,
+    /// The clear colour every undrawn sample holds, if known.
+    clean: Option<Vec3>,
+    /// Whether the output's dirty columns say where it may not hold `clean` (else every
+    /// column may not).
+    stale_known: bool,
+}
+
+impl ResolveRule {
+    /// The resolve of `samples` (exactly `k` times `out`'s width and height) into `out`,
+    /// given what `out` holds now.
+    ///
+    /// # Panics
+    /// If the sizes do not match (a caller's bug, not an input error).
+    pub fn new(samples: &Framebuffer, out: &Framebuffer, k: u32) -> ResolveRule {
+        assert!(
+            samples.width() == out.width() * k && samples.height() == out.height() * k,
+            "sample image is not {k} times the output"
+        );
+        let clean = samples.clean;
+        ResolveRule {
+            k: k as usize,
+            width: out.width() as usize,
+            clean,
+            stale_known: matches!(clean, Some(bg) if same_color(out.clean, bg))
+                && out.pending_clear.is_none(),
+        }
+    }
+
+    /// The output columns over drawn samples of one output row, from its `k` sample rows'
+    /// dirty columns (all of them when no clear is known).
+    pub fn drawn(&self, sample_rows: &[(u32, u32)]) -> (u32, u32) {
+        if self.clean.is_none() {
+            return (0, self.width as u32);
+        }
+        match columns_over(sample_rows, self.k, self.width) {
+            (lo, hi) if lo < hi => (lo as u32, hi as u32),
+            _ => CLEAN_ROW,
+        }
+    }
+
+    /// The columns of an output row that may not hold the clear colour now, from the row's
+    /// dirty columns in the output.
+    pub fn stale(&self, dirty: (u32, u32)) -> (u32, u32) {
+        if self.stale_known {
+            dirty
+        } else {
+            (0, self.width as u32)
+        }
+    }
+
+    /// Resolves one output row (`color`, `depth`, `width` long) from its samples: the columns
+    /// `drawn` filtered, and those of `stale` outside them cleared.
+    pub fn row(
+        &self,
+        (drawn, stale): ((u32, u32), (u32, u32)),
+        samples: RowSamples,
+        (color, depth): (&mut [Vec3], &mut [f32]),
+    ) {
+        let width = self.width;
+        let (lo, hi) = drawn;
+        let (lo, hi) = (lo as usize, (hi as usize).max(lo as usize));
+        if let Some(bg) = self.clean {
+            let (slo, shi) = (stale.0 as usize, (stale.1 as usize).min(width));
+            for (a, b) in [(slo, shi.min(lo)), (slo.max(hi), shi)] {
+                if a < b {
+                    fill_rows(&mut color[a..b], &mut depth[a..b], bg);
+                }
+            }
+        }
+        if lo < hi {
+            let (color, depth) = (&mut color[lo..hi], &mut depth[lo..hi]);
+            match self.k {
+                2 => resolve_row::<2>(samples, width, lo, color, depth),
+                4 => resolve_row::<4>(samples, width, lo, color, depth),
+                _ => resolve_row::<1>(samples, width, lo, color, depth),
+            }
+        }
+    }
+
+    /// What the output records once every row is resolved (its dirty columns are each
+    /// row's `drawn`, set by the caller).
+    pub fn finish(&self, out: &mut Framebuffer) {
+        out.clean = self.clean;
+        out.pending_clear = None;
+        out.overlay = None;
+    }
+}
+
+/// A sample image's rows as the resolve reads them: colours, depths, and the pixel layer
+/// (colours and split marks) when it has one of `k x k` samples.
+pub(crate) struct SampleRows<'a> {
+    k: usize,
+    /// Output pixels per row.
+    width: usize,
+    color: &'a [Vec3],
+    depth: &'a [f32],
+    layer: Option<(&'a [Vec3], &'a [u8])>,
+}
+
+impl<'a> SampleRows<'a> {
+    /// All of `samples`' rows.
+    fn of(samples: &'a Framebuffer, k: usize) -> SampleRows<'a> {
+        let layer = samples.layer.as_ref().filter(|l| l.k == k);
+        SampleRows {
+            k,
+            width: samples.width() as usize / k,
+            color: &samples.color,
+            depth: &samples.depth,
+            layer: layer.map(|l| (&l.color[..], &l.split[..])),
+        }
+    }
+
+    /// A band's rows: its sample rows and its pixel layer's rows (`k` sample rows of
+    /// `width * k` per pixel row).
+    pub fn band(
+        k: usize,
+        width: usize,
+        (color, depth): (&'a [Vec3], &'a [f32]),
+        layer: Option<(&'a [Vec3], &'a [u8])>,
+    ) -> SampleRows<'a> {
+        SampleRows {
+            k,
+            width,
+            color,
+            depth,
+            layer,
+        }
+    }
+
+    /// The samples of output row `y` (counted from the first of these rows).
+    pub fn row(&self, y: usize) -> RowSamples<'a> {
+        let (k, width) = (self.k, self.width);
+        let n = k * width * k;
+        let at = (y * n).min(self.color.len())..((y + 1) * n).min(self.color.len());
+        let dat = (y * n).min(self.depth.len())..((y + 1) * n).min(self.depth.len());
+        let layer = self.layer.and_then(|(c, s)| {
+            let at = y * width..(y + 1) * width;
+            Some((c.get(at.clone())?, s.get(at)?))
+        });
+        (&self.color[at], &self.depth[dat], layer)
+    }
 }
 
 /// One output row's samples: `K` rows of colours and of depths (`width * K` samples each),
 /// and the row of the image's pixel layer (colours, split marks), if it has one.
-type RowSamples<'a> = (&'a [Vec3], &'a [f32], Option<(&'a [Vec3], &'a [u8])>);
+pub(crate) type RowSamples<'a> = (&'a [Vec3], &'a [f32], Option<(&'a [Vec3], &'a [u8])>);
 
 /// Filters output pixels `lo..lo + color.len()` of one row from its `K` rows of samples. The
 /// sums are pairwise (the same tree for every pixel), so that `K x K` equal samples give that

@@ -15,6 +15,7 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::antialias::{ResolveRule, SampleRows};
 use crate::coverage::BandTarget;
 use crate::coverage::lanes;
 use crate::framebuffer::layer::LayerRows;
@@ -32,12 +33,16 @@ use crate::viewport::{BAND_ROWS, band_rows};
 /// `block x block` per pixel, and the by-pixel pass shades each triangle once per pixel
 /// ([`crate::bypixel::ByPixel::block`]); `count` is the coverage-count test hook (no depth test, every band
 /// one pass). Returns the pixels (or, multisampled, the pixel and triangle pairs) shaded.
+///
+/// With `out`, the image `fb`'s samples resolve into (`fb` `k` times as wide and as tall),
+/// each band resolves its rows into `out` right after drawing them, while they are in cache:
+/// the columns the frame drew in them so far ([`ResolveRule`]), as [`crate::antialias`]'s
+/// resolve would at the frame's end. Not for the coverage hook or a depth-only draw.
 pub(crate) fn draw_bands<S: Shader>(
     fb: &mut Framebuffer,
     input: &BandInput<S>,
-    threads: usize,
-    count: bool,
-    block: u32,
+    (threads, count, block): (usize, bool, u32),
+    out: Option<&mut Framebuffer>,
 ) -> u64 {
     let band_rows = band_rows(block);
     let width = fb.width();
@@ -52,6 +57,16 @@ pub(crate) fn draw_bands<S: Shader>(
     let layered = block > 1 && !count && !input.depth_only && !layerless();
     fb.set_layer(if layered { block } else { 1 });
     let one_pass = one_pass::<S>();
+    let mut out = out.filter(|_| !count && !input.depth_only);
+    let k = out.as_ref().map_or(1, |o| fb.width() / o.width().max(1));
+    let rule = out.as_ref().map(|o| ResolveRule::new(fb, o, k));
+    let mut outs = out.as_deref_mut().map(|o| {
+        let rows = band_rows as usize / k as usize * o.width() as usize;
+        o.color
+            .chunks_mut(rows)
+            .zip(o.depth.chunks_mut(rows))
+            .zip(o.dirty.chunks_mut(band_rows as usize / k as usize))
+    });
     let (color, depth, dirty) = (&mut fb.color, &mut fb.depth, &mut fb.dirty);
     let mut layers = fb.layer.as_mut().map(|l| l.bands(BAND_ROWS as usize));
     let bands: Vec<Rows> = color
@@ -63,6 +78,7 @@ pub(crate) fn draw_bands<S: Shader>(
             depth,
             dirty,
             layer: layers.as_mut().and_then(Iterator::next),
+            out: outs.as_mut().and_then(Iterator::next),
         })
         .collect();
     let run = |(b, rows): (usize, Rows)| -> u64 {
@@ -71,6 +87,7 @@ pub(crate) fn draw_bands<S: Shader>(
             depth,
             dirty,
             mut layer,
+            out,
         } = rows;
         if let Some(bg) = clear {
             // The frame's clear, deferred to here: each band clears its rows in parallel,
@@ -89,28 +106,39 @@ pub(crate) fn draw_bands<S: Shader>(
         }
         let y0 = b as i64 * band_rows as i64;
         let in_band: usize = input.records(b).map(|(_, r)| r.len()).sum();
-        if in_band == 0 {
-            return 0;
-        }
-        // A band of one record is not worth a depth pass, except multisampled: one pass
-        // would shade each of its samples, not each pixel once, and split every pixel.
-        let single = one_pass || count || (in_band < 2 && block == 1);
-        if single {
-            if let Some(layer) = &mut layer {
-                layer.split_all(color);
+        let mut shaded = 0;
+        if in_band > 0 {
+            // A band of one record is not worth a depth pass, except multisampled: one pass
+            // would shade each of its samples, not each pixel once, and split every pixel.
+            let single = one_pass || count || (in_band < 2 && block == 1);
+            if single {
+                if let Some(layer) = &mut layer {
+                    layer.split_all(color);
+                }
             }
+            let mut target =
+                BandTarget::new(&mut *color, &mut *depth, width, y0, count).with_dirty(&mut *dirty);
+            shaded = if single {
+                draw_single(input, b, &mut target)
+            } else {
+                let rows = layer.as_mut().map(LayerRows::reborrow);
+                draw_two_pass(input, b, target, block, rows)
+            };
         }
-        let mut target = BandTarget::new(color, depth, width, y0, count).with_dirty(dirty);
-        if single {
-            return draw_single(input, b, &mut target);
+        if let (Some(rule), Some(out)) = (&rule, out) {
+            resolve_band(rule, (&*color, &*depth, &*dirty), layer.as_ref(), out);
         }
-        draw_two_pass(input, b, target, block, layer)
+        shaded
     };
     let threads = effective_threads(threads);
-    match (threads > 1).then(|| pool(threads)).flatten() {
+    let shaded = match (threads > 1).then(|| pool(threads)).flatten() {
         Some(p) => p.install(|| bands.into_par_iter().enumerate().map(run).sum()),
         None => bands.into_iter().enumerate().map(run).sum(),
+    };
+    if let (Some(rule), Some(out)) = (rule, out) {
+        rule.finish(out);
     }
+    shaded
 }
 
 #[cfg(test)]
@@ -135,6 +163,36 @@ struct Rows<'a> {
     depth: &'a mut [f32],
     dirty: &'a mut [(u32, u32)],
     layer: Option<LayerRows<'a>>,
+    /// The rows of the image the band resolves into, with their dirty columns.
+    out: Option<OutRows<'a>>,
+}
+
+/// A band's rows of the output image: colours, depths, and dirty columns per row.
+type OutRows<'a> = ((&'a mut [Vec3], &'a mut [f32]), &'a mut [(u32, u32)]);
+
+/// Resolves a band's sample rows (`color`, `depth`, with their dirty columns and pixel
+/// layer) into its output rows `out` by `rule`, and records each output row's drawn columns.
+fn resolve_band(
+    rule: &ResolveRule,
+    (color, depth, dirty): (&[Vec3], &[f32], &[(u32, u32)]),
+    layer: Option<&LayerRows>,
+    ((out_color, out_depth), out_dirty): OutRows,
+) {
+    let (k, width) = (rule.k, rule.width);
+    let layer = layer
+        .filter(|l| l.k == k)
+        .map(|l| (&l.color[..], &l.split[..]));
+    let samples = SampleRows::band(k, width, (color, depth), layer);
+    let rows = out_color
+        .chunks_mut(width)
+        .zip(out_depth.chunks_mut(width))
+        .zip(out_dirty.iter_mut());
+    for (y, ((c, d), out_dirty)) in rows.enumerate() {
+        let drawn = rule.drawn(dirty.get(y * k..(y + 1) * k).unwrap_or(&[]));
+        let stale = rule.stale(*out_dirty);
+        rule.row((drawn, stale), samples.row(y), (c, d));
+        *out_dirty = drawn;
+    }
 }
 
 /// Whether `S` draws every band in one pass: a constant colour, or a pixel stage cheap

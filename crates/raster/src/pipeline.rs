@@ -33,6 +33,7 @@ pub(crate) fn run_depth(
         opts,
         stats,
         (1, false, false, true),
+        None,
     );
 }
 
@@ -45,7 +46,9 @@ pub(crate) fn positions_only<'a>(mesh: &MeshView<'a>) -> MeshView<'a> {
 /// Runs `shader` over one draw through the three stages: vertex, bin (both in parallel over
 /// the mesh, in order; the varyings only for the vertices the bin stage recorded) and bands. `block`: samples per pixel side of a multisampled image (1:
 /// none); `count`: the coverage-count hook; `depth_only`: a constant-colour shader writes
-/// depth alone (a shadow map), and the colour is neither written nor cleared.
+/// depth alone (a shadow map), and the colour is neither written nor cleared. With `out`
+/// (the output image `fb`'s samples resolve into) each band resolves its rows after drawing
+/// them ([`draw_bands`]).
 pub(crate) fn run<S: Shader>(
     fb: &mut Framebuffer,
     (vp, mesh, model): (Mat4, &MeshView, Mat4),
@@ -53,6 +56,7 @@ pub(crate) fn run<S: Shader>(
     opts: &RenderOptions,
     stats: &mut RenderStats,
     (block, count, cull, depth_only): (u32, bool, bool, bool),
+    out: Option<&mut Framebuffer>,
 ) {
     let view = Viewport::new(fb.width(), fb.height(), opts.perspective_correct, block);
     let wide = Wide {
@@ -87,5 +91,5 @@ pub(crate) fn run<S: Shader>(
         ceiling: fb.ceiling,
         depth_only: depth_only && S::FACE == Face::Constant,
     };
-    stats.pixels_shaded += draw_bands(fb, &input, threads, count, block);
+    stats.pixels_shaded += draw_bands(fb, &input, (threads, count, block), out);
 }

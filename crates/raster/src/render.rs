@@ -29,6 +29,10 @@ pub struct Frame<'f> {
     opts: RenderOptions,
     stats: RenderStats,
     done: bool,
+    /// [`Frame::resolve_as_drawn`] was called.
+    resolve_as_drawn: bool,
+    /// The last draw resolved the samples into the image.
+    resolved: bool,
 }
 
 impl<'f> Frame<'f> {
@@ -72,6 +76,8 @@ impl<'f> Frame<'f> {
                 ..RenderStats::default()
             },
             done: false,
+            resolve_as_drawn: false,
+            resolved: false,
         };
         if factor > 1 {
             frame.stats.antialias = aa;
@@ -124,13 +130,22 @@ impl<'f> Frame<'f> {
         let (vp, block, opts) = (self.vp, self.block, self.opts);
         let cull = opts.cull_backfaces || cull_backfaces;
         let mut stats = self.stats;
+        // The bands resolve as they go once the frame's last draws are announced; a draw
+        // without that leaves the resolve to the frame's end.
+        let (target, out) = match (&mut self.samples, self.resolve_as_drawn) {
+            (Some(s), true) => (&mut **s, Some(&mut *self.fb)),
+            (Some(s), false) => (&mut **s, None),
+            (None, _) => (&mut *self.fb, None),
+        };
+        self.resolved = out.is_some();
         run(
-            self.target(),
+            target,
             (vp, mesh, model),
             shader,
             &opts,
             &mut stats,
             (block, false, cull, false),
+            out,
         );
         self.stats = stats;
     }
@@ -176,6 +191,16 @@ impl<'f> Frame<'f> {
         crate::shadow::shade::draw(self, d, rest, shadowed);
     }
 
+    /// Says that the frame's last draw comes next: from here on each draw resolves the
+    /// anti-aliased image band by band, right after drawing a band, while its samples are
+    /// still in cache, and [`Frame::finish`] reads nothing back. Each such draw resolves all
+    /// that the frame drew so far in its bands, so calling this earlier gives the same image
+    /// for more work, and not calling it leaves the resolve to [`Frame::finish`]: the image
+    /// is the same either way. Nothing changes without anti-aliasing.
+    pub fn resolve_as_drawn(&mut self) {
+        self.resolve_as_drawn = true;
+    }
+
     /// Ends the frame (the clear no draw took, the anti-aliasing resolve) and returns what it
     /// did.
     pub fn finish(mut self) -> RenderStats {
@@ -190,7 +215,9 @@ impl<'f> Frame<'f> {
         self.done = true;
         self.target().finish_clear();
         if let Some(samples) = self.samples.take() {
-            resolve(&samples, self.fb, self.factor, self.opts.threads);
+            if !self.resolved {
+                resolve(&samples, self.fb, self.factor, self.opts.threads);
+            }
             self.fb.samples = Some(samples);
         }
     }
@@ -213,7 +240,10 @@ pub fn render(
     opts: &RenderOptions,
 ) -> RenderStats {
     let mut frame = Frame::new(fb, camera, opts);
-    for d in draws {
+    for (i, d) in draws.iter().enumerate() {
+        if i + 1 == draws.len() {
+            frame.resolve_as_drawn();
+        }
         frame.draw_item(d);
     }
     frame.finish()
@@ -262,6 +292,7 @@ pub fn coverage_counts(
             opts,
             &mut stats,
             (1, true, cull, false),
+            None,
         );
     }
     Ok(fb.color.iter().map(|c| c.x as u32).collect())

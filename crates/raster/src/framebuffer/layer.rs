@@ -88,6 +88,16 @@ pub(crate) struct LayerRows<'a> {
 }
 
 impl LayerRows<'_> {
+    /// These rows, borrowed for a shorter while.
+    pub fn reborrow<'b>(&'b mut self) -> LayerRows<'b> {
+        LayerRows {
+            k: self.k,
+            width: self.width,
+            color: &mut *self.color,
+            split: &mut *self.split,
+        }
+    }
+
     /// Makes every pixel of these rows [`SPLIT`], copying the colour of each [`WHOLE`] one to
     /// its samples (`samples`: the band's sample rows): for a draw that writes samples one by
     /// one (a mode that shades during traversal, the visible pass).

@@ -352,3 +352,122 @@ fn whole_pixels_kept_once_give_the_image_of_every_sample_written() {
         }
     }
 }
+
+#[test]
+fn resolving_band_by_band_gives_the_frames_end_resolve() {
+    use super::support::{s1_lights, uv_sphere};
+    use crate::{Frame, Framebuffer, Interpolation};
+    use glam::Mat4;
+
+    let cam = Camera::s1();
+    let (w, h) = (97, 71);
+    let (coarse, fine) = (uv_sphere(0.35, 6, 4), uv_sphere(0.35, 48, 32));
+    let material = Material::s1();
+    let lights = s1_lights();
+    let at = |x: f32, y: f32, s: f32| {
+        Mat4::from_translation(Vec3::new(x, y, 0.0)) * Mat4::from_scale(Vec3::splat(s))
+    };
+    // Frames in a row into the same framebuffers, the objects moving (so each frame's end
+    // clears what the last one drew elsewhere), a new background, the high range, each
+    // anti-aliasing choice and none; three draws a frame, the last drawing nothing in some
+    // bands and the first nothing at all in frame 4.
+    let frames = [
+        (
+            Antialias::Msaa4,
+            ShadingMode::Phong,
+            Interpolation::Plane,
+            0,
+        ),
+        (Antialias::Msaa4, ShadingMode::Flat, Interpolation::Plane, 1),
+        (
+            Antialias::Ssaa4,
+            ShadingMode::Gouraud,
+            Interpolation::Plane,
+            0,
+        ),
+        (
+            Antialias::Msaa16,
+            ShadingMode::Phong,
+            Interpolation::Incremental,
+            2,
+        ),
+        (
+            Antialias::Msaa4,
+            ShadingMode::FastPhong,
+            Interpolation::Plane,
+            3,
+        ),
+        (Antialias::Off, ShadingMode::Phong, Interpolation::Plane, 0),
+        (
+            Antialias::Ssaa16,
+            ShadingMode::Phong,
+            Interpolation::Plane,
+            0,
+        ),
+        (
+            Antialias::Msaa4,
+            ShadingMode::Phong,
+            Interpolation::Plane,
+            0,
+        ),
+    ];
+    for threads in [1, 3] {
+        // At the frame's end; from the last draw on; from the first draw on.
+        let mut fbs: [Framebuffer; 3] = std::array::from_fn(|_| Framebuffer::new(w, h).unwrap());
+        for (k, &(aa, mode, interpolation, twist)) in frames.iter().enumerate() {
+            let mut a = item(&coarse, &material, &lights, ShadingMode::Phong);
+            a.model = at(0.1 * k as f32, 0.0, 1.0 + 0.2 * k as f32);
+            if twist == 3 {
+                a.model = at(9.0, 9.0, 1.0);
+            }
+            let mut b = item(&fine, &material, &lights, mode);
+            b.model = at(-0.2, 0.15 * k as f32, 0.8);
+            let mut c = item(&coarse, &material, &lights, mode);
+            c.model = at(-0.5 + 0.05 * k as f32, -0.4, 0.3);
+            let opts = RenderOptions {
+                threads,
+                antialias: aa,
+                interpolation,
+                background: Vec3::new(0.1, 0.2, 0.3 + 0.2 * f32::from(twist == 1)),
+                ..RenderOptions::default()
+            };
+            for (from, fb) in fbs.iter_mut().enumerate() {
+                fb.set_hdr(twist == 2);
+                let mut frame = Frame::new(fb, &cam, &opts);
+                for (i, d) in [a, b, c].iter().enumerate() {
+                    if (from == 1 && i == 2) || (from == 2 && i == 0) {
+                        frame.resolve_as_drawn();
+                    }
+                    frame.draw_item(d);
+                }
+                frame.finish();
+            }
+            let what = format!("x{threads} frame {k} ({aa})");
+            let bits = |fb: &Framebuffer| {
+                let c = fb.color().iter().flat_map(|c| c.to_array());
+                c.chain(fb.depth().iter().copied())
+                    .map(f32::to_bits)
+                    .collect::<Vec<_>>()
+            };
+            let [end, last, first] = &fbs;
+            for (name, other) in [("last draw", last), ("first draw", first)] {
+                let (a, b) = (bits(end), bits(other));
+                let differs = a.iter().zip(&b).position(|(a, b)| a != b);
+                assert_eq!(
+                    differs, None,
+                    "{what}, from the {name}: first value that differs"
+                );
+                assert_eq!(
+                    end.dirty, other.dirty,
+                    "{what}, from the {name}: dirty columns"
+                );
+                assert_eq!(end.clean, other.clean, "{what}, from the {name}");
+            }
+            // Something was drawn, and edges were resolved from their samples.
+            if aa != Antialias::Off {
+                let shares = end.coverage();
+                assert!(shares.iter().any(|&s| s > 0.0 && s < 1.0), "{what}");
+            }
+        }
+    }
+}
