@@ -243,21 +243,17 @@ fn switching_the_range_redraws_the_clear_in_the_new_range() {
 
 #[test]
 fn whole_pixels_kept_once_give_the_image_of_every_sample_written() {
-    use super::support::{s1_lights, uv_sphere};
     use crate::bands::LAYERLESS;
     use crate::framebuffer::layer::WHOLE;
     use crate::{Framebuffer, Interpolation, render};
-    use glam::Mat4;
 
-    let cam = Camera::s1();
-    let (w, h) = (97, 71);
-    // Large triangles leave whole pixels in the layer; small ones split their bands.
-    let (coarse, fine) = (uv_sphere(0.35, 6, 4), uv_sphere(0.35, 48, 32));
-    let material = Material::s1();
-    let lights = s1_lights();
-    let at = |x: f32, y: f32, s: f32| {
-        Mat4::from_translation(Vec3::new(x, y, 0.0)) * Mat4::from_scale(Vec3::splat(s))
-    };
+    let (cam, (w, h)) = (Camera::s1(), (97, 71));
+    let Spheres {
+        coarse,
+        fine,
+        material,
+        lights,
+    } = Spheres::new();
     // Frames in a row into the same framebuffers: draws that write whole pixels (`phong`),
     // samples one by one (`flat`, `gouraud`, the incremental scan line) and both, over one
     // another; a new background, the high range, and a supersampled frame between.
@@ -307,9 +303,9 @@ fn whole_pixels_kept_once_give_the_image_of_every_sample_written() {
             ];
             for (k, &(first, second, interpolation, twist)) in frames.iter().enumerate() {
                 let mut a = item(&coarse, &material, &lights, first);
-                a.model = at(0.1 * k as f32, 0.0, 1.0 + 0.3 * k as f32);
+                a.model = placed(0.1 * k as f32, 0.0, 1.0 + 0.3 * k as f32);
                 let mut b = item(&fine, &material, &lights, second);
-                b.model = at(-0.2, 0.15 * k as f32, 0.8);
+                b.model = placed(-0.2, 0.15 * k as f32, 0.8);
                 let opts = RenderOptions {
                     threads,
                     antialias: if twist == 3 { Antialias::Ssaa4 } else { aa },
@@ -325,12 +321,6 @@ fn whole_pixels_kept_once_give_the_image_of_every_sample_written() {
                 }
                 let what = format!("{aa} x{threads} frame {k}");
                 let [layered, plain] = &fbs;
-                let bits = |fb: &Framebuffer| {
-                    let c = fb.color().iter().flat_map(|c| c.to_array());
-                    c.chain(fb.depth().iter().copied())
-                        .map(f32::to_bits)
-                        .collect::<Vec<_>>()
-                };
                 let (a, b) = (bits(layered), bits(plain));
                 let differs = a.iter().zip(&b).position(|(a, b)| a != b);
                 assert_eq!(differs, None, "{what}: first value that differs");
@@ -355,18 +345,15 @@ fn whole_pixels_kept_once_give_the_image_of_every_sample_written() {
 
 #[test]
 fn resolving_band_by_band_gives_the_frames_end_resolve() {
-    use super::support::{s1_lights, uv_sphere};
     use crate::{Frame, Framebuffer, Interpolation};
-    use glam::Mat4;
 
-    let cam = Camera::s1();
-    let (w, h) = (97, 71);
-    let (coarse, fine) = (uv_sphere(0.35, 6, 4), uv_sphere(0.35, 48, 32));
-    let material = Material::s1();
-    let lights = s1_lights();
-    let at = |x: f32, y: f32, s: f32| {
-        Mat4::from_translation(Vec3::new(x, y, 0.0)) * Mat4::from_scale(Vec3::splat(s))
-    };
+    let (cam, (w, h)) = (Camera::s1(), (97, 71));
+    let Spheres {
+        coarse,
+        fine,
+        material,
+        lights,
+    } = Spheres::new();
     // Frames in a row into the same framebuffers, the objects moving (so each frame's end
     // clears what the last one drew elsewhere), a new background, the high range, each
     // anti-aliasing choice and none; three draws a frame, the last drawing nothing in some
@@ -416,14 +403,14 @@ fn resolving_band_by_band_gives_the_frames_end_resolve() {
         let mut fbs: [Framebuffer; 3] = std::array::from_fn(|_| Framebuffer::new(w, h).unwrap());
         for (k, &(aa, mode, interpolation, twist)) in frames.iter().enumerate() {
             let mut a = item(&coarse, &material, &lights, ShadingMode::Phong);
-            a.model = at(0.1 * k as f32, 0.0, 1.0 + 0.2 * k as f32);
+            a.model = placed(0.1 * k as f32, 0.0, 1.0 + 0.2 * k as f32);
             if twist == 3 {
-                a.model = at(9.0, 9.0, 1.0);
+                a.model = placed(9.0, 9.0, 1.0);
             }
             let mut b = item(&fine, &material, &lights, mode);
-            b.model = at(-0.2, 0.15 * k as f32, 0.8);
+            b.model = placed(-0.2, 0.15 * k as f32, 0.8);
             let mut c = item(&coarse, &material, &lights, mode);
-            c.model = at(-0.5 + 0.05 * k as f32, -0.4, 0.3);
+            c.model = placed(-0.5 + 0.05 * k as f32, -0.4, 0.3);
             let opts = RenderOptions {
                 threads,
                 antialias: aa,
@@ -443,12 +430,6 @@ fn resolving_band_by_band_gives_the_frames_end_resolve() {
                 frame.finish();
             }
             let what = format!("x{threads} frame {k} ({aa})");
-            let bits = |fb: &Framebuffer| {
-                let c = fb.color().iter().flat_map(|c| c.to_array());
-                c.chain(fb.depth().iter().copied())
-                    .map(f32::to_bits)
-                    .collect::<Vec<_>>()
-            };
             let [end, last, first] = &fbs;
             for (name, other) in [("last draw", last), ("first draw", first)] {
                 let (a, b) = (bits(end), bits(other));
@@ -470,4 +451,39 @@ fn resolving_band_by_band_gives_the_frames_end_resolve() {
             }
         }
     }
+}
+
+/// Two UV spheres of one size, one of large triangles (they leave whole pixels in a pixel
+/// layer) and one of small ones (they split pixels), with S1's material and lights: the
+/// frames-in-a-row tests draw them moving over one another.
+struct Spheres {
+    coarse: TestMesh,
+    fine: TestMesh,
+    material: Material,
+    lights: LightSet,
+}
+
+impl Spheres {
+    fn new() -> Spheres {
+        use super::support::{s1_lights, uv_sphere};
+        Spheres {
+            coarse: uv_sphere(0.35, 6, 4),
+            fine: uv_sphere(0.35, 48, 32),
+            material: Material::s1(),
+            lights: s1_lights(),
+        }
+    }
+}
+
+/// Scale `s`, then a move by `(x, y)`.
+fn placed(x: f32, y: f32, s: f32) -> glam::Mat4 {
+    glam::Mat4::from_translation(Vec3::new(x, y, 0.0)) * glam::Mat4::from_scale(Vec3::splat(s))
+}
+
+/// Every colour's and depth's bits, to compare images exactly.
+fn bits(fb: &crate::Framebuffer) -> Vec<u32> {
+    let c = fb.color().iter().flat_map(|c| c.to_array());
+    c.chain(fb.depth().iter().copied())
+        .map(f32::to_bits)
+        .collect()
 }
