@@ -13,11 +13,14 @@ use phosphor_raster::encode::Encoder;
 use phosphor_raster::overlay::{Edges, Overlays};
 use phosphor_raster::{
     Antialias, Camera, Encoding, FastPhongMethod, Framebuffer, Interpolation, Projection, Shown,
+    WindowBuffer,
 };
 use phosphor_scene::animation::{Time, is_animated, update};
 use phosphor_scene::preset::ViewPreset;
 use phosphor_scene::view::camera_toml;
-use phosphor_scene::{FrameOptions, Scene, ShadingChoice, draw_items, render_frame};
+use phosphor_scene::{
+    FrameOptions, Scene, ShadingChoice, draw_items, render_frame, render_frame_into,
+};
 
 use crate::input::{Action, OrbitCamera};
 use crate::window::View;
@@ -351,22 +354,31 @@ impl View for Viewer {
             shadows: self.frame_shadows(),
             ..FrameOptions::default()
         };
-        let report = render_frame(&self.scene, &mut fb, &opts);
-        if !self.overlays.is_empty() {
+        // What the buffer holds from the last frame, if it still holds it: then only the
+        // columns either frame wrote are converted or cleared.
+        let mut shown = self.shown.take().filter(|_| held);
+        let report = if self.overlays.is_empty() {
+            // The frame's last bands convert their rows into the buffer while in cache.
+            let window = WindowBuffer {
+                words: &mut *out,
+                shown: &mut shown,
+            };
+            render_frame_into(&self.scene, &mut fb, &opts, window)
+        } else {
+            let report = render_frame(&self.scene, &mut fb, &opts);
             let items = draw_items(&report.plan);
             let smooth = report.stats.antialias != Antialias::Off;
             self.overlays.draw(&mut fb, &camera, &items, smooth);
-        }
+            shown = Some(fb.write_0rgb_over(out, 0, shown.as_ref()));
+            report
+        };
+        self.shown = shown;
         for w in &report.warnings {
             if !self.told.contains(w) {
                 term::warn(w);
                 self.told.push(w.clone());
             }
         }
-        // What the buffer holds from the last frame, if it still holds it: then only the
-        // columns either frame wrote are converted or cleared.
-        let before = self.shown.take().filter(|_| held);
-        self.shown = Some(fb.write_0rgb_over(out, 0, before.as_ref()));
         self.fb = Some(fb);
         let ms = start.elapsed().as_secs_f64() * 1e3;
         self.last_ms = ms;
@@ -682,6 +694,33 @@ mod tests {
         viewer.shadows = Some(true);
         viewer.fixed_frames = true;
         assert_eq!(viewer.frame_shadows(), Some(true));
+    }
+
+    /// The window's buffer, kept from frame to frame and filled by each frame's last bands,
+    /// holds the whole image's words after every frame: the view moving, with and without
+    /// anti-aliasing and an overlay.
+    #[test]
+    fn a_kept_window_buffer_holds_each_frames_whole_image() {
+        let mut viewer = Viewer::new(Scene::default_scene().unwrap());
+        viewer.fixed_frames = true;
+        let (w, h) = (80u32, 45u32);
+        let mut out = vec![0u32; (w * h) as usize];
+        for k in 0..8 {
+            viewer.antialias = if k % 2 == 0 {
+                Antialias::Off
+            } else {
+                Antialias::Msaa4
+            };
+            if k == 5 || k == 6 {
+                viewer.apply(Action::ToggleGrid, h);
+            }
+            viewer.draw(w, h, &mut out, k > 0).unwrap();
+            let fb = viewer.fb.as_ref().unwrap();
+            let mut whole = vec![0u32; out.len()];
+            fb.write_0rgb_threads(&mut whole, 1);
+            assert_eq!(out, whole, "frame {k}");
+            viewer.apply(Action::Orbit { dx: 9.0, dy: 4.0 }, h);
+        }
     }
 
     #[test]

@@ -18,8 +18,10 @@ use rayon::prelude::*;
 use crate::antialias::{ResolveRule, SampleRows};
 use crate::coverage::BandTarget;
 use crate::coverage::lanes;
+use crate::encode::{Encoder, Encoding};
 use crate::framebuffer::layer::LayerRows;
-use crate::framebuffer::{Framebuffer, clear_rows, same_color};
+use crate::framebuffer::readout::{background_word, word_row, written_row};
+use crate::framebuffer::{Framebuffer, Shown, clear_rows, same_color};
 use crate::group::{Basis, Group, Kind, LANES, Marks, Portable, RowLanes};
 use crate::parallel::{effective_threads, pool};
 use crate::records::{AHEAD, BandInput};
@@ -34,15 +36,18 @@ use crate::viewport::{BAND_ROWS, band_rows};
 /// ([`crate::bypixel::ByPixel::block`]); `count` is the coverage-count test hook (no depth test, every band
 /// one pass). Returns the pixels (or, multisampled, the pixel and triangle pairs) shaded.
 ///
-/// With `out`, the image `fb`'s samples resolve into (`fb` `k` times as wide and as tall),
-/// each band resolves its rows into `out` right after drawing them, while they are in cache:
-/// the columns the frame drew in them so far ([`ResolveRule`]), as [`crate::antialias`]'s
-/// resolve would at the frame's end. Not for the coverage hook or a depth-only draw.
+/// With `outputs.resolve`, the image `fb`'s samples resolve into (`fb` `k` times as wide
+/// and as tall), each band resolves its rows into it right after drawing them, while they
+/// are in cache: the columns the frame drew in them so far ([`ResolveRule`]), as
+/// [`crate::antialias`]'s resolve would at the frame's end. With `outputs.words`, each band
+/// then reads its finished rows out into the window's words, as
+/// [`Framebuffer::write_0rgb_over`] would after the draw. Neither for the coverage hook or a
+/// depth-only draw.
 pub(crate) fn draw_bands<S: Shader>(
     fb: &mut Framebuffer,
     input: &BandInput<S>,
     (threads, count, block): (usize, bool, u32),
-    out: Option<&mut Framebuffer>,
+    outputs: Outputs<'_>,
 ) -> u64 {
     let band_rows = band_rows(block);
     let width = fb.width();
@@ -57,9 +62,25 @@ pub(crate) fn draw_bands<S: Shader>(
     let layered = block > 1 && !count && !input.depth_only && !layerless();
     fb.set_layer(if layered { block } else { 1 });
     let one_pass = one_pass::<S>();
-    let mut out = out.filter(|_| !count && !input.depth_only);
+    let drawn_image = !count && !input.depth_only;
+    let mut out = outputs.resolve.filter(|_| drawn_image);
     let k = out.as_ref().map_or(1, |o| fb.width() / o.width().max(1));
     let rule = out.as_ref().map(|o| ResolveRule::new(fb, o, k));
+    // The finished image's size and rows per band: the output's, or `fb`'s own.
+    let (image_width, image_height) = out
+        .as_ref()
+        .map_or((width, fb.height()), |o| (o.width(), o.height()));
+    let image_rows = band_rows as usize / k as usize;
+    let readout = outputs
+        .words
+        .filter(|(w, _)| drawn_image && w.len() == image_width as usize * image_height as usize);
+    // The clear colour is final once this draw's clear is taken: the readout's background.
+    let background = background_word(fb.clean);
+    let before = readout.as_ref().and_then(|(w, held)| {
+        let size = (image_width, image_height);
+        Shown::new(size, w.len(), background).kept(*held)
+    });
+    let mut words = readout.map(|(w, _)| w.chunks_mut(image_rows * image_width as usize));
     let mut outs = out.as_deref_mut().map(|o| {
         let rows = band_rows as usize / k as usize * o.width() as usize;
         o.color
@@ -79,6 +100,7 @@ pub(crate) fn draw_bands<S: Shader>(
             dirty,
             layer: layers.as_mut().and_then(Iterator::next),
             out: outs.as_mut().and_then(Iterator::next),
+            words: words.as_mut().and_then(Iterator::next),
         })
         .collect();
     let run = |(b, rows): (usize, Rows)| -> u64 {
@@ -88,6 +110,7 @@ pub(crate) fn draw_bands<S: Shader>(
             dirty,
             mut layer,
             out,
+            words,
         } = rows;
         if let Some(bg) = clear {
             // The frame's clear, deferred to here: each band clears its rows in parallel,
@@ -125,8 +148,19 @@ pub(crate) fn draw_bands<S: Shader>(
                 draw_two_pass(input, b, target, block, rows)
             };
         }
-        if let (Some(rule), Some(out)) = (&rule, out) {
-            resolve_band(rule, (&*color, &*depth, &*dirty), layer.as_ref(), out);
+        // The band's finished rows: resolved into the output, or its own.
+        let finished: (&[Vec3], &[(u32, u32)]) = match (&rule, out) {
+            (Some(rule), Some(((out_color, out_depth), out_dirty))) => {
+                let rows = ((&mut *out_color, &mut *out_depth), &mut *out_dirty);
+                resolve_band(rule, (&*color, &*depth, &*dirty), layer.as_ref(), rows);
+                (&*out_color, &*out_dirty)
+            }
+            _ => (&*color, &*dirty),
+        };
+        if let Some(words) = words {
+            let first = b * image_rows;
+            let before = before.and_then(|r| r.get(first..));
+            read_out_band(words, finished, image_width, background, before);
         }
         shaded
     };
@@ -165,6 +199,41 @@ struct Rows<'a> {
     layer: Option<LayerRows<'a>>,
     /// The rows of the image the band resolves into, with their dirty columns.
     out: Option<OutRows<'a>>,
+    /// The window's words of the band's rows of the finished image.
+    words: Option<&'a mut [u32]>,
+}
+
+/// What a draw's bands write besides their own rows once the frame's last draws are
+/// announced ([`crate::Frame::resolve_as_drawn`]).
+#[derive(Default)]
+pub(crate) struct Outputs<'a> {
+    /// The output image the draw's samples resolve into.
+    pub resolve: Option<&'a mut Framebuffer>,
+    /// A window's words for the finished image (`resolve`, or the drawn image itself
+    /// without samples), a word per pixel, with what the buffer holds ([`Shown`]).
+    pub words: Option<(&'a mut [u32], Option<&'a Shown>)>,
+}
+
+/// Reads a band's finished rows (`color`, `width` long, with their dirty columns) out into
+/// its rows of a window's `words` through [`word_row`], as
+/// [`Framebuffer::write_0rgb_over`] reads those rows: `background` is the clear colour's
+/// word, and `before` the band's rows of the columns the buffer holds outside it.
+fn read_out_band(
+    words: &mut [u32],
+    (color, dirty): (&[Vec3], &[(u32, u32)]),
+    width: u32,
+    background: Option<u32>,
+    before: Option<&[(u32, u32)]>,
+) {
+    let enc = Encoder::new(Encoding::Srgb);
+    let rows = words
+        .chunks_mut(width as usize)
+        .zip(color.chunks(width as usize));
+    for (y, (dst, src)) in rows.enumerate() {
+        let written = written_row(background, dirty.get(y).copied(), width);
+        let before = before.and_then(|b| b.get(y)).copied();
+        word_row(enc, (src, dst), (written, background), before);
+    }
 }
 
 /// A band's rows of the output image: colours, depths, and dirty columns per row.

@@ -4,8 +4,8 @@
 use glam::Vec3;
 
 pub(crate) mod layer;
-mod readout;
-pub use readout::Shown;
+pub(crate) mod readout;
+pub use readout::{Shown, WindowBuffer};
 
 use layer::PixelLayer;
 

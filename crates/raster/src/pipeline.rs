@@ -4,7 +4,7 @@
 
 use glam::{Mat4, Vec3};
 
-use crate::bands::draw_bands;
+use crate::bands::{Outputs, draw_bands};
 use crate::batch::Wide;
 use crate::bin::{BinInput, bin_draw};
 use crate::framebuffer::Framebuffer;
@@ -33,7 +33,7 @@ pub(crate) fn run_depth(
         opts,
         stats,
         (1, false, false, true),
-        None,
+        Outputs::default(),
     );
 }
 
@@ -46,9 +46,10 @@ pub(crate) fn positions_only<'a>(mesh: &MeshView<'a>) -> MeshView<'a> {
 /// Runs `shader` over one draw through the three stages: vertex, bin (both in parallel over
 /// the mesh, in order; the varyings only for the vertices the bin stage recorded) and bands. `block`: samples per pixel side of a multisampled image (1:
 /// none); `count`: the coverage-count hook; `depth_only`: a constant-colour shader writes
-/// depth alone (a shadow map), and the colour is neither written nor cleared. With `out`
-/// (the output image `fb`'s samples resolve into) each band resolves its rows after drawing
-/// them ([`draw_bands`]).
+/// depth alone (a shadow map), and the colour is neither written nor cleared. With
+/// `out.resolve` (the output image `fb`'s samples resolve into) each band resolves its rows
+/// after drawing them, and with `out.words` reads its finished rows out into a window's
+/// words ([`draw_bands`]).
 pub(crate) fn run<S: Shader>(
     fb: &mut Framebuffer,
     (vp, mesh, model): (Mat4, &MeshView, Mat4),
@@ -56,7 +57,7 @@ pub(crate) fn run<S: Shader>(
     opts: &RenderOptions,
     stats: &mut RenderStats,
     (block, count, cull, depth_only): (u32, bool, bool, bool),
-    out: Option<&mut Framebuffer>,
+    out: Outputs<'_>,
 ) {
     let view = Viewport::new(fb.width(), fb.height(), opts.perspective_correct, block);
     let wide = Wide {

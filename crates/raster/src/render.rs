@@ -7,7 +7,8 @@ use glam::{Mat4, Vec3};
 use phosphor_lighting::Effects;
 
 use crate::antialias::{Antialias, resolve};
-use crate::framebuffer::{Framebuffer, RasterError};
+use crate::bands::Outputs;
+use crate::framebuffer::{Framebuffer, RasterError, WindowBuffer};
 use crate::pipeline::{positions_only, run};
 use crate::shader::Shader;
 use crate::shaders::fill::Fill;
@@ -33,6 +34,10 @@ pub struct Frame<'f> {
     resolve_as_drawn: bool,
     /// The last draw resolved the samples into the image.
     resolved: bool,
+    /// The window's buffer the finished image is read out into ([`Frame::show_in`]).
+    window: Option<WindowBuffer<'f>>,
+    /// The last draw read the finished image out into the window's buffer.
+    read_out: bool,
 }
 
 impl<'f> Frame<'f> {
@@ -78,6 +83,8 @@ impl<'f> Frame<'f> {
             done: false,
             resolve_as_drawn: false,
             resolved: false,
+            window: None,
+            read_out: false,
         };
         if factor > 1 {
             frame.stats.antialias = aa;
@@ -132,12 +139,22 @@ impl<'f> Frame<'f> {
         let mut stats = self.stats;
         // The bands resolve as they go once the frame's last draws are announced; a draw
         // without that leaves the resolve to the frame's end.
-        let (target, out) = match (&mut self.samples, self.resolve_as_drawn) {
+        // And read the finished image out into the window's buffer, when it has the image's
+        // size; otherwise the frame's end reads it out.
+        let pixels = self.fb.width() as usize * self.fb.height() as usize;
+        let words = match (&mut self.window, self.resolve_as_drawn) {
+            (Some(w), true) if w.words.len() == pixels => {
+                Some((&mut *w.words, (*w.shown).as_ref()))
+            }
+            _ => None,
+        };
+        self.read_out = words.is_some();
+        let (target, resolve) = match (&mut self.samples, self.resolve_as_drawn) {
             (Some(s), true) => (&mut **s, Some(&mut *self.fb)),
             (Some(s), false) => (&mut **s, None),
             (None, _) => (&mut *self.fb, None),
         };
-        self.resolved = out.is_some();
+        self.resolved = resolve.is_some();
         run(
             target,
             (vp, mesh, model),
@@ -145,7 +162,7 @@ impl<'f> Frame<'f> {
             &opts,
             &mut stats,
             (block, false, cull, false),
-            out,
+            Outputs { resolve, words },
         );
         self.stats = stats;
     }
@@ -201,8 +218,19 @@ impl<'f> Frame<'f> {
         self.resolve_as_drawn = true;
     }
 
-    /// Ends the frame (the clear no draw took, the anti-aliasing resolve) and returns what it
-    /// did.
+    /// Fills `window`'s buffer with the finished image as [`Framebuffer::write_0rgb_over`]
+    /// would after [`Frame::finish`], and sets its `shown` to what the buffer then holds.
+    /// After [`Frame::resolve_as_drawn`] each draw reads its bands' finished rows out right
+    /// after drawing (and resolving) them, while they are still in cache; otherwise, or when
+    /// the buffer's length is not the image's, the frame's end reads the whole image out. The
+    /// words are the same either way. Whatever draws on the framebuffer after the frame (an
+    /// overlay) is not in them.
+    pub fn show_in(&mut self, window: WindowBuffer<'f>) {
+        self.window = Some(window);
+    }
+
+    /// Ends the frame (the clear no draw took, the anti-aliasing resolve, the window's
+    /// readout) and returns what it did.
     pub fn finish(mut self) -> RenderStats {
         self.end();
         self.stats
@@ -219,6 +247,17 @@ impl<'f> Frame<'f> {
                 resolve(&samples, self.fb, self.factor, self.opts.threads);
             }
             self.fb.samples = Some(samples);
+        }
+        if let Some(w) = self.window.take() {
+            let n = w.words.len().min(self.fb.color.len());
+            // The last draw's bands read every row out, and nothing drew after them.
+            let shown = if self.read_out {
+                self.fb.shown(n)
+            } else {
+                self.fb
+                    .write_0rgb_over(w.words, self.opts.threads, (*w.shown).as_ref())
+            };
+            *w.shown = Some(shown);
         }
     }
 }
@@ -239,7 +278,23 @@ pub fn render(
     draws: &[DrawItem],
     opts: &RenderOptions,
 ) -> RenderStats {
+    render_into(fb, camera, draws, opts, None)
+}
+
+/// [`render`], and with `window` the finished image read out into a window's buffer as
+/// [`Framebuffer::write_0rgb_over`] reads it, by the last draw's bands while their rows are
+/// in cache ([`Frame::show_in`]).
+pub fn render_into(
+    fb: &mut Framebuffer,
+    camera: &Camera,
+    draws: &[DrawItem],
+    opts: &RenderOptions,
+    window: Option<WindowBuffer<'_>>,
+) -> RenderStats {
     let mut frame = Frame::new(fb, camera, opts);
+    if let Some(w) = window {
+        frame.show_in(w);
+    }
     for (i, d) in draws.iter().enumerate() {
         if i + 1 == draws.len() {
             frame.resolve_as_drawn();
@@ -292,7 +347,7 @@ pub fn coverage_counts(
             opts,
             &mut stats,
             (1, true, cull, false),
-            None,
+            Outputs::default(),
         );
     }
     Ok(fb.color.iter().map(|c| c.x as u32).collect())

@@ -94,7 +94,8 @@ pub use plan::{
     pixels_per_triangle, plan_frame,
 };
 pub use render::{
-    FrameReport, draw_items, raster_options, render_frame, render_plan, unrenderable,
+    FrameReport, draw_items, raster_options, render_frame, render_frame_into, render_plan,
+    unrenderable,
 };
 pub use textures::ColorMap;
 

@@ -8,6 +8,7 @@ use phosphor_lighting::{Light, LightSet, Material};
 use phosphor_raster::shadow::{Caster, CubeShadow, LightMaps, Occluders, ShadowLight, ShadowMap};
 use phosphor_raster::{
     Camera, DrawItem, Frame, Framebuffer, MeshView, RenderOptions, RenderStats, ShadingMode,
+    WindowBuffer,
 };
 
 use crate::Scene;
@@ -117,13 +118,41 @@ pub fn raster_options(scene: &Scene, opts: &FrameOptions) -> RenderOptions {
 
 /// Plans and renders one frame of `scene` into `fb` (cleared first).
 pub fn render_frame(scene: &Scene, fb: &mut Framebuffer, opts: &FrameOptions) -> FrameReport {
+    frame_into(scene, fb, opts, None)
+}
+
+/// [`render_frame`], and the finished image read out into a window's buffer as
+/// [`Framebuffer::write_0rgb_over`] reads it, by the last object's bands while their rows
+/// are still in cache ([`phosphor_raster::Frame::show_in`]): a window's frame without a
+/// second pass over the image.
+pub fn render_frame_into(
+    scene: &Scene,
+    fb: &mut Framebuffer,
+    opts: &FrameOptions,
+    window: WindowBuffer<'_>,
+) -> FrameReport {
+    frame_into(scene, fb, opts, Some(window))
+}
+
+/// [`render_frame`] with an optional window buffer.
+fn frame_into(
+    scene: &Scene,
+    fb: &mut Framebuffer,
+    opts: &FrameOptions,
+    window: Option<WindowBuffer<'_>>,
+) -> FrameReport {
     let start = Instant::now();
     let camera = scene.camera();
     let plan = plan_frame(scene, &camera, (fb.width(), fb.height()), opts);
     let plan_time = start.elapsed();
     let start = Instant::now();
-    let (stats, shadow_times) =
-        render_plan(scene, fb, &camera, &plan, &raster_options(scene, opts));
+    let (stats, shadow_times) = draw_plan(
+        scene,
+        fb,
+        (&camera, &plan),
+        &raster_options(scene, opts),
+        window,
+    );
     FrameReport {
         plan,
         stats,
@@ -157,10 +186,21 @@ pub fn render_plan(
     plan: &FramePlan,
     opts: &RenderOptions,
 ) -> (RenderStats, Vec<Duration>) {
+    draw_plan(scene, fb, (camera, plan), opts, None)
+}
+
+/// [`render_plan`], reading the finished image out into `window` when given.
+fn draw_plan(
+    scene: &Scene,
+    fb: &mut Framebuffer,
+    (camera, plan): (&Camera, &FramePlan),
+    opts: &RenderOptions,
+    window: Option<WindowBuffer<'_>>,
+) -> (RenderStats, Vec<Duration>) {
     let items = draw_items(plan);
     if plan.shadows.maps.is_empty() {
         return (
-            phosphor_raster::render(fb, camera, &items, opts),
+            phosphor_raster::render_into(fb, camera, &items, opts, window),
             Vec::new(),
         );
     }
@@ -194,6 +234,9 @@ pub fn render_plan(
         .map(|m| LightSet::new(Vec3::ZERO, &[lights[m.light].1]))
         .collect();
     let mut frame = Frame::new(fb, camera, opts);
+    if let Some(w) = window {
+        frame.show_in(w);
+    }
     for (i, (o, d)) in plan.objects.iter().zip(&items).enumerate() {
         if i + 1 == plan.objects.len() {
             // The last object's bands resolve the anti-aliased image while in cache.

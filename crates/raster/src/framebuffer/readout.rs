@@ -35,59 +35,32 @@ impl Framebuffer {
         let enc = Encoder::new(Encoding::Srgb);
         let width = self.width as usize;
         let n = out.len().min(self.color.len());
-        let background = self.clean.map(|c| {
-            let mut word = [0];
-            pack_0rgb(enc, &[c], &mut word);
-            word[0]
-        });
-        // The columns of each row that are not the background.
-        let written: Vec<(u32, u32)> = (0..n.div_ceil(width))
-            .map(|y| match (background, self.dirty.get(y)) {
-                (Some(_), Some(&(lo, hi))) => {
-                    let hi = hi.min(self.width);
-                    (lo.min(hi), hi)
-                }
-                _ => (0, self.width),
-            })
-            .collect();
-        let before = held
-            .filter(|h| {
-                h.size == (self.width, self.height)
-                    && h.len == n
-                    && h.background.is_some()
-                    && h.background == background
-            })
-            .map(|h| &h.written);
-        let rows: Vec<usize> = (0..written.len()).collect();
+        let shown = self.shown(n);
+        let before = shown.kept(held);
+        let rows: Vec<usize> = (0..shown.written.len()).collect();
         crate::parallel::for_each_chunk(threads, &mut out[..n], &rows, (16, width), |dst, rows| {
             for (dst, &y) in dst.chunks_mut(width).zip(rows) {
                 let src = &self.color[y * width..y * width + dst.len()];
-                let end = dst.len();
-                // `lo <= hi` in `written` and in a held `Shown`, and so after the clamp to `end`.
-                let (lo, hi) = written[y];
-                let (lo, hi) = ((lo as usize).min(end), (hi as usize).min(end));
-                if let Some(bg) = background {
-                    // Outside `[lo, hi)` the background: the whole rest of the row, or only
-                    // where the buffer held the earlier frame's written columns.
-                    match before.and_then(|b| b.get(y)) {
-                        Some(&(a, b)) => {
-                            let (a, b) = ((a as usize).min(end), (b as usize).min(end));
-                            if lo >= hi {
-                                dst[a..b].fill(bg);
-                            } else {
-                                dst[a.min(lo)..lo].fill(bg);
-                                dst[hi..b.max(hi)].fill(bg);
-                            }
-                        }
-                        None => {
-                            dst[..lo].fill(bg);
-                            dst[hi..].fill(bg);
-                        }
-                    }
-                }
-                pack_0rgb(enc, &src[lo..hi], &mut dst[lo..hi]);
+                let before = before.and_then(|b| b.get(y)).copied();
+                word_row(
+                    enc,
+                    (src, dst),
+                    (shown.written[y], shown.background),
+                    before,
+                );
             }
         });
+        shown
+    }
+
+    /// What [`Framebuffer::write_0rgb_over`] of this image's first `n` pixels leaves in a
+    /// buffer: the background's word (when the clear colour is known) and each row's
+    /// columns that are not the background.
+    pub(crate) fn shown(&self, n: usize) -> Shown {
+        let background = background_word(self.clean);
+        let written = (0..n.div_ceil(self.width as usize))
+            .map(|y| written_row(background, self.dirty.get(y).copied(), self.width))
+            .collect();
         Shown {
             size: (self.width, self.height),
             len: n,
@@ -153,6 +126,105 @@ pub struct Shown {
     len: usize,
     background: Option<u32>,
     written: Vec<(u32, u32)>,
+}
+
+impl Shown {
+    /// What a readout of `len` words of an image of `size` with the background's word
+    /// `background` compares a held buffer's [`Shown`] against ([`Shown::kept`]).
+    pub(crate) fn new(size: (u32, u32), len: usize, background: Option<u32>) -> Shown {
+        Shown {
+            size,
+            len,
+            background,
+            written: Vec::new(),
+        }
+    }
+
+    /// The columns per row that a buffer holding `held` has outside the background, when
+    /// its words can stand where this readout writes the background: the same size, length
+    /// and known background word. `None`: every background word is written.
+    pub(crate) fn kept<'a>(&self, held: Option<&'a Shown>) -> Option<&'a [(u32, u32)]> {
+        held.filter(|h| {
+            h.size == self.size
+                && h.len == self.len
+                && h.background.is_some()
+                && h.background == self.background
+        })
+        .map(|h| &h.written[..])
+    }
+}
+
+/// A window's buffer for a frame to fill with softbuffer's `0x00RRGGBB` words
+/// ([`crate::Frame::show_in`], [`crate::render_into`]): the words
+/// [`Framebuffer::write_0rgb_over`] would write after the frame, read out band by band by
+/// the frame's last draw while each band's rows are still in cache.
+#[derive(Debug)]
+pub struct WindowBuffer<'a> {
+    /// The buffer: a word per pixel of the image, row-major from the top. A length other
+    /// than the image's is filled at the frame's end, as `write_0rgb_over` fills it.
+    pub words: &'a mut [u32],
+    /// What the buffer holds: `write_0rgb_over`'s or an earlier frame's [`Shown`] while the
+    /// buffer still holds those words (a surface whose buffer age is 1), else `None`. The
+    /// frame's end sets it to what the buffer holds then, for the next frame.
+    pub shown: &'a mut Option<Shown>,
+}
+
+/// The word of the clear colour `clean`, if known.
+pub(crate) fn background_word(clean: Option<Vec3>) -> Option<u32> {
+    clean.map(|c| {
+        let mut word = [0];
+        pack_0rgb(Encoder::new(Encoding::Srgb), &[c], &mut word);
+        word[0]
+    })
+}
+
+/// The columns of a row `width` long that are not the background: its dirty columns while
+/// the background is known, else all of them.
+pub(crate) fn written_row(
+    background: Option<u32>,
+    dirty: Option<(u32, u32)>,
+    width: u32,
+) -> (u32, u32) {
+    match (background, dirty) {
+        (Some(_), Some((lo, hi))) => {
+            let hi = hi.min(width);
+            (lo.min(hi), hi)
+        }
+        _ => (0, width),
+    }
+}
+
+/// One row of the readout: `src`'s columns `written` packed into `dst`, and the background
+/// (when known) outside them: the whole rest of the row, or, where the buffer holds a
+/// row whose columns `before` were not the background, only those.
+pub(crate) fn word_row(
+    enc: Encoder,
+    (src, dst): (&[Vec3], &mut [u32]),
+    (written, background): ((u32, u32), Option<u32>),
+    before: Option<(u32, u32)>,
+) {
+    let end = dst.len().min(src.len());
+    let dst = &mut dst[..end];
+    // `lo <= hi` in `written` and in a held `Shown`, and so after the clamp to `end`.
+    let (lo, hi) = ((written.0 as usize).min(end), (written.1 as usize).min(end));
+    if let Some(bg) = background {
+        match before {
+            Some((a, b)) => {
+                let (a, b) = ((a as usize).min(end), (b as usize).min(end));
+                if lo >= hi {
+                    dst[a..b].fill(bg);
+                } else {
+                    dst[a.min(lo)..lo].fill(bg);
+                    dst[hi..b.max(hi)].fill(bg);
+                }
+            }
+            None => {
+                dst[..lo].fill(bg);
+                dst[hi..].fill(bg);
+            }
+        }
+    }
+    pack_0rgb(enc, &src[lo..hi], &mut dst[lo..hi]);
 }
 
 /// `src` packed as `0x00RRGGBB` through `enc` into `dst` (as many pixels as both hold): four

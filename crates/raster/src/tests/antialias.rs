@@ -343,9 +343,12 @@ fn whole_pixels_kept_once_give_the_image_of_every_sample_written() {
     }
 }
 
+/// Resolving and reading out into a window's buffer band by band, from the last draw or
+/// from the first, give the images and words of the frame's end resolve and a readout after
+/// the frame.
 #[test]
-fn resolving_band_by_band_gives_the_frames_end_resolve() {
-    use crate::{Frame, Framebuffer, Interpolation};
+fn resolving_and_reading_out_band_by_band_give_the_frames_end_images() {
+    use crate::{Frame, Framebuffer, Interpolation, Shown, WindowBuffer};
 
     let (cam, (w, h)) = (Camera::s1(), (97, 71));
     let Spheres {
@@ -401,6 +404,9 @@ fn resolving_band_by_band_gives_the_frames_end_resolve() {
     for threads in [1, 3] {
         // At the frame's end; from the last draw on; from the first draw on.
         let mut fbs: [Framebuffer; 3] = std::array::from_fn(|_| Framebuffer::new(w, h).unwrap());
+        // Each one's window buffer and what it holds: read out after the frame, or by it.
+        let mut words: [Vec<u32>; 3] = std::array::from_fn(|_| vec![0; (w * h) as usize]);
+        let mut held: [Option<Shown>; 3] = Default::default();
         for (k, &(aa, mode, interpolation, twist)) in frames.iter().enumerate() {
             let mut a = item(&coarse, &material, &lights, ShadingMode::Phong);
             a.model = placed(0.1 * k as f32, 0.0, 1.0 + 0.2 * k as f32);
@@ -418,9 +424,20 @@ fn resolving_band_by_band_gives_the_frames_end_resolve() {
                 background: Vec3::new(0.1, 0.2, 0.3 + 0.2 * f32::from(twist == 1)),
                 ..RenderOptions::default()
             };
-            for (from, fb) in fbs.iter_mut().enumerate() {
+            let outs = words.iter_mut().zip(held.iter_mut());
+            for (from, (fb, (words, shown))) in fbs.iter_mut().zip(outs).enumerate() {
+                if k % 3 == 2 {
+                    // A buffer whose words are not known (a surface's buffer age 0).
+                    *shown = None;
+                }
                 fb.set_hdr(twist == 2);
                 let mut frame = Frame::new(fb, &cam, &opts);
+                if from > 0 {
+                    frame.show_in(WindowBuffer {
+                        words: &mut *words,
+                        shown: &mut *shown,
+                    });
+                }
                 for (i, d) in [a, b, c].iter().enumerate() {
                     if (from == 1 && i == 2) || (from == 2 && i == 0) {
                         frame.resolve_as_drawn();
@@ -428,6 +445,9 @@ fn resolving_band_by_band_gives_the_frames_end_resolve() {
                     frame.draw_item(d);
                 }
                 frame.finish();
+                if from == 0 {
+                    *shown = Some(fb.write_0rgb_over(words, threads, shown.as_ref()));
+                }
             }
             let what = format!("x{threads} frame {k} ({aa})");
             let [end, last, first] = &fbs;
@@ -444,10 +464,74 @@ fn resolving_band_by_band_gives_the_frames_end_resolve() {
                 );
                 assert_eq!(end.clean, other.clean, "{what}, from the {name}");
             }
+            for (name, i) in [("last draw", 1), ("first draw", 2)] {
+                let differs = words[0].iter().zip(&words[i]).position(|(a, b)| a != b);
+                assert_eq!(
+                    differs, None,
+                    "{what}, read out from the {name}: first word"
+                );
+                let (a, b) = (format!("{:?}", held[0]), format!("{:?}", held[i]));
+                assert_eq!(
+                    a, b,
+                    "{what}, read out from the {name}: what the buffer holds"
+                );
+            }
+            // The held buffers kept the words of a whole readout.
+            let mut whole = vec![0; words[0].len()];
+            fbs[0].write_0rgb_threads(&mut whole, 1);
+            assert_eq!(words[0], whole, "{what}");
             // Something was drawn, and edges were resolved from their samples.
             if aa != Antialias::Off {
                 let shares = end.coverage();
                 assert!(shares.iter().any(|&s| s > 0.0 && s < 1.0), "{what}");
+            }
+        }
+    }
+}
+
+/// A window's buffer that is not the image's length, and a frame with no draw, are read out
+/// at the frame's end: the words of a readout after the frame.
+#[test]
+fn a_window_buffer_the_bands_cannot_fill_is_read_out_at_the_frames_end() {
+    use crate::{Frame, Framebuffer, Shown, WindowBuffer};
+
+    let (cam, (w, h)) = (Camera::s1(), (61, 43));
+    let Spheres {
+        fine,
+        material,
+        lights,
+        ..
+    } = Spheres::new();
+    let d = item(&fine, &material, &lights, ShadingMode::Phong);
+    for aa in [Antialias::Off, Antialias::Msaa4] {
+        for (len, draws) in [((w * h) as usize - 5, 1), ((w * h) as usize, 0)] {
+            let opts = RenderOptions {
+                antialias: aa,
+                background: Vec3::new(0.3, 0.2, 0.1),
+                ..RenderOptions::default()
+            };
+            let mut fb = Framebuffer::new(w, h).unwrap();
+            let (mut words, mut shown) = (vec![7; len], None::<Shown>);
+            let mut frame = Frame::new(&mut fb, &cam, &opts);
+            frame.show_in(WindowBuffer {
+                words: &mut words,
+                shown: &mut shown,
+            });
+            frame.resolve_as_drawn();
+            for _ in 0..draws {
+                frame.draw_item(&d);
+            }
+            frame.finish();
+            let mut after = vec![7; len];
+            let want = fb.write_0rgb_over(&mut after, 1, None);
+            let what = format!("{aa}, {len} words, {draws} draws");
+            assert_eq!(words, after, "{what}");
+            assert_eq!(format!("{shown:?}"), format!("{:?}", Some(want)), "{what}");
+            if draws > 0 {
+                assert!(
+                    words.iter().any(|&v| v != words[0]),
+                    "{what}: nothing drawn"
+                );
             }
         }
     }
